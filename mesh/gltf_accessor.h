@@ -1,0 +1,23 @@
+#pragma once
+// Bounds-checked reads of glTF accessors. tinygltf parses the JSON but does not check that an accessor's
+// range fits its buffer view and buffer; these functions do, so hostile files fail with a message, not a crash.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace tinygltf {
+class Model;
+}
+
+namespace hemibake {
+
+// Reads `accessorIndex` as `components` doubles per element (normalized integers are mapped to [0,1] / [-1,1]).
+// `what` names the accessor in error messages, e.g. "mesh 2 primitive 0 POSITION".
+std::vector<double> readAccessorFloats(const tinygltf::Model& model, int accessorIndex, int components,
+                                       const std::string& path, const std::string& what);
+
+// Reads an index accessor (u8/u16/u32 scalars).
+std::vector<std::uint32_t> readAccessorIndices(const tinygltf::Model& model, int accessorIndex, const std::string& path,
+                                               const std::string& what);
+
+}  // namespace hemibake

@@ -1,0 +1,413 @@
+#include "mesh/gltf_loader.h"
+
+#include <array>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <map>
+
+#include <glm/gtc/quaternion.hpp>
+#include <glm/gtc/type_ptr.hpp>
+#include <OpenMesh/Core/System/omstream.hh>
+#include <tiny_gltf.h>
+
+#include "mesh/errors.h"
+#include "mesh/gltf_accessor.h"
+
+namespace hemibake {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// tinygltf's messages span lines and repeat the file name; keep the first meaningful line.
+std::string firstLine(const std::string& text) {
+    std::string line;
+    for (char c : text) {
+        if (c == '\n' || c == '\r') {
+            if (!line.empty()) break;
+            continue;
+        }
+        line += c;
+    }
+    return line.empty() ? "could not be parsed as glTF" : line;
+}
+
+float srgbToLinear(float c) {
+    return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
+}
+
+glm::dmat4 nodeLocalMatrix(const tinygltf::Node& node) {
+    if (node.matrix.size() == 16) return glm::make_mat4(node.matrix.data());  // column-major, as glm
+    glm::dmat4 m(1.0);
+    if (node.translation.size() == 3)
+        m = glm::translate(m, glm::dvec3(node.translation[0], node.translation[1], node.translation[2]));
+    if (node.rotation.size() == 4)
+        m *= glm::mat4_cast(glm::dquat(node.rotation[3], node.rotation[0], node.rotation[1], node.rotation[2]));
+    if (node.scale.size() == 3) m = glm::scale(m, glm::dvec3(node.scale[0], node.scale[1], node.scale[2]));
+    return m;
+}
+
+bool allFinite(const glm::dmat4& m) {
+    for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r)
+            if (!std::isfinite(m[c][r])) return false;
+    return true;
+}
+
+// Silences OpenMesh's own complaints (e.g. "complex edge") while we handle the failures ourselves.
+class OpenMeshErrorsMuted {
+public:
+    OpenMeshErrorsMuted() : wasEnabled_(omerr().is_enabled()) { omerr().disable(); }
+    ~OpenMeshErrorsMuted() { if (wasEnabled_) omerr().enable(); }
+private:
+    bool wasEnabled_;
+};
+
+class GltfSceneReader {
+public:
+    GltfSceneReader(const tinygltf::Model& model, const std::string& path) : model_(model), path_(path) {}
+
+    Scene read() {
+        scene_.path = path_;
+        readMaterials();
+        if (model_.scenes.empty()) throw InputError(path_, "the file has no scene");
+        int sceneIndex = model_.defaultScene >= 0 ? model_.defaultScene : 0;
+        if (std::size_t(sceneIndex) >= model_.scenes.size())
+            throw InputError(path_, "default scene " + std::to_string(sceneIndex) + " does not exist");
+        std::vector<char> onPath(model_.nodes.size(), 0);
+        for (int root : model_.scenes[std::size_t(sceneIndex)].nodes) visitNode(root, glm::dmat4(1.0), onPath);
+        if (scene_.triangleCount() == 0)
+            throw InputError(path_, "the scene has no triangles to bake (empty scene)");
+        return std::move(scene_);
+    }
+
+private:
+    void warn(const std::string& message) { scene_.report.warnings.push_back(message); }
+
+    void readMaterials() {
+        for (std::size_t i = 0; i < model_.materials.size(); ++i) {
+            const tinygltf::Material& gm = model_.materials[i];
+            Material m;
+            m.name = gm.name.empty() ? "material" + std::to_string(i) : gm.name;
+            const auto& bc = gm.pbrMetallicRoughness.baseColorFactor;
+            if (bc.size() >= 3) m.reflectanceFactor = glm::vec3(float(bc[0]), float(bc[1]), float(bc[2]));
+            for (int c = 0; c < 3; ++c)
+                if (!(m.reflectanceFactor[c] >= 0.0f && m.reflectanceFactor[c] <= 0.999f)) {
+                    warn("material '" + m.name + "': reflectance outside [0, 0.999] clamped");
+                    break;
+                }
+            m.reflectanceFactor = glm::clamp(m.reflectanceFactor, glm::vec3(0.0f), glm::vec3(0.999f));
+            if (std::isnan(m.reflectanceFactor.x + m.reflectanceFactor.y + m.reflectanceFactor.z))
+                throw InputError(path_, "material '" + m.name + "' has a non-finite baseColorFactor");
+            const tinygltf::TextureInfo& tex = gm.pbrMetallicRoughness.baseColorTexture;
+            if (tex.index >= 0) {
+                m.reflectanceTexture = textureFor(tex.index, m.name);
+                m.reflectanceTexCoord = tex.texCoord;
+            }
+            double strength = 1.0;
+            auto ext = gm.extensions.find("KHR_materials_emissive_strength");
+            if (ext != gm.extensions.end() && ext->second.Has("emissiveStrength"))
+                strength = ext->second.Get("emissiveStrength").GetNumberAsDouble();
+            if (gm.emissiveFactor.size() >= 3)
+                m.emittedRadiance = glm::vec3(glm::dvec3(gm.emissiveFactor[0], gm.emissiveFactor[1], gm.emissiveFactor[2]) *
+                                              strength);
+            const glm::vec3 le = m.emittedRadiance;
+            if (!std::isfinite(le.x + le.y + le.z) || le.x < 0.0f || le.y < 0.0f || le.z < 0.0f)
+                throw InputError(path_, "material '" + m.name + "' has a negative or non-finite emission");
+            if (gm.emissiveTexture.index >= 0)
+                warn("material '" + m.name + "': emissiveTexture is ignored (emission is emissiveFactor x strength)");
+            m.doubleSided = gm.doubleSided;
+            scene_.materials.push_back(std::move(m));
+        }
+    }
+
+    int textureFor(int gltfTexture, const std::string& materialName) {
+        if (std::size_t(gltfTexture) >= model_.textures.size())
+            throw InputError(path_, "material '" + materialName + "' uses texture " + std::to_string(gltfTexture) +
+                                        ", which does not exist");
+        const int source = model_.textures[std::size_t(gltfTexture)].source;
+        if (source < 0 || std::size_t(source) >= model_.images.size())
+            throw InputError(path_, "texture " + std::to_string(gltfTexture) + " has no valid image source");
+        auto it = imageToTexture_.find(source);
+        if (it != imageToTexture_.end()) return it->second;
+        const tinygltf::Image& img = model_.images[std::size_t(source)];
+        const std::size_t pixels = std::size_t(std::max(img.width, 0)) * std::size_t(std::max(img.height, 0));
+        const int bytesPerComponent = img.bits == 16 ? 2 : 1;
+        if (pixels == 0 || img.component < 1 ||
+            img.image.size() < pixels * std::size_t(img.component) * std::size_t(bytesPerComponent))
+            throw InputError(path_, "image " + std::to_string(source) + " ('" + img.uri + "') could not be decoded");
+        Texture t;
+        t.width = img.width;
+        t.height = img.height;
+        t.linearRgb.resize(pixels * 3);
+        std::array<float, 256> lut8{};
+        for (int i = 0; i < 256; ++i) lut8[std::size_t(i)] = srgbToLinear(float(i) / 255.0f);
+        for (std::size_t p = 0; p < pixels; ++p)
+            for (int c = 0; c < 3; ++c) {
+                const int src = std::min(c, img.component - 1);  // grey images replicate their one channel
+                const std::size_t at = (p * std::size_t(img.component) + std::size_t(src)) * std::size_t(bytesPerComponent);
+                float value;
+                if (bytesPerComponent == 1) {
+                    value = lut8[img.image[at]];
+                } else {
+                    const std::uint16_t v = std::uint16_t(img.image[at] | (img.image[at + 1] << 8));
+                    value = srgbToLinear(float(v) / 65535.0f);
+                }
+                t.linearRgb[p * 3 + std::size_t(c)] = value;
+            }
+        scene_.textures.push_back(std::move(t));
+        const int index = int(scene_.textures.size()) - 1;
+        imageToTexture_[source] = index;
+        return index;
+    }
+
+    int defaultMaterial() {
+        if (defaultMaterial_ < 0) {
+            Material m;
+            m.name = "default";
+            m.reflectanceFactor = glm::vec3(0.8f);
+            scene_.materials.push_back(m);
+            defaultMaterial_ = int(scene_.materials.size()) - 1;
+        }
+        return defaultMaterial_;
+    }
+
+    void visitNode(int index, const glm::dmat4& parent, std::vector<char>& onPath) {
+        if (index < 0 || std::size_t(index) >= model_.nodes.size())
+            throw InputError(path_, "the scene refers to node " + std::to_string(index) + ", which does not exist");
+        if (onPath[std::size_t(index)])
+            throw InputError(path_, "node " + std::to_string(index) + " is its own ancestor (cycle in the node hierarchy)");
+        onPath[std::size_t(index)] = 1;
+        const tinygltf::Node& node = model_.nodes[std::size_t(index)];
+        const glm::dmat4 world = parent * nodeLocalMatrix(node);
+        if (!allFinite(world))
+            throw InputError(path_, "node " + std::to_string(index) + " has a non-finite transform");
+        ++scene_.report.nodes;
+        if (node.mesh >= 0) {
+            if (std::size_t(node.mesh) >= model_.meshes.size())
+                throw InputError(path_, "node " + std::to_string(index) + " refers to mesh " + std::to_string(node.mesh) +
+                                            ", which does not exist");
+            ++scene_.report.meshNodes;
+            const tinygltf::Mesh& mesh = model_.meshes[std::size_t(node.mesh)];
+            for (std::size_t p = 0; p < mesh.primitives.size(); ++p) readPrimitive(index, node.mesh, int(p), world);
+        }
+        if (node.camera >= 0) readCamera(node, world);
+        auto light = node.extensions.find("KHR_lights_punctual");
+        if (light != node.extensions.end() && light->second.Has("light"))
+            readLight(light->second.Get("light").GetNumberAsInt(), world);
+        for (int child : node.children) visitNode(child, world, onPath);
+        onPath[std::size_t(index)] = 0;
+    }
+
+    void readCamera(const tinygltf::Node& node, const glm::dmat4& world) {
+        if (std::size_t(node.camera) >= model_.cameras.size())
+            throw InputError(path_, "node '" + node.name + "' refers to a camera that does not exist");
+        const tinygltf::Camera& gc = model_.cameras[std::size_t(node.camera)];
+        if (gc.type != "perspective") {
+            warn("camera '" + gc.name + "' is not perspective and is skipped");
+            return;
+        }
+        Camera c;
+        c.name = !gc.name.empty() ? gc.name : node.name;
+        c.position = glm::dvec3(world[3]);
+        c.forward = glm::normalize(glm::vec3(glm::dmat3(world) * glm::dvec3(0, 0, -1)));
+        c.up = glm::normalize(glm::vec3(glm::dmat3(world) * glm::dvec3(0, 1, 0)));
+        c.yfovRadians = float(gc.perspective.yfov);
+        c.aspectRatio = float(gc.perspective.aspectRatio);
+        c.znear = float(gc.perspective.znear);
+        scene_.cameras.push_back(c);
+    }
+
+    void readLight(int index, const glm::dmat4& world) {
+        if (index < 0 || std::size_t(index) >= model_.lights.size())
+            throw InputError(path_, "a node refers to light " + std::to_string(index) + ", which does not exist");
+        const tinygltf::Light& gl = model_.lights[std::size_t(index)];
+        PunctualLight l;
+        l.name = gl.name.empty() ? "light" + std::to_string(index) : gl.name;
+        glm::dvec3 color(1.0);
+        if (gl.color.size() == 3) color = glm::dvec3(gl.color[0], gl.color[1], gl.color[2]);
+        l.intensity = glm::vec3(color * gl.intensity);
+        if (!std::isfinite(l.intensity.x + l.intensity.y + l.intensity.z) || glm::any(glm::lessThan(l.intensity, glm::vec3(0.0f))))
+            throw InputError(path_, "light '" + l.name + "' has a negative or non-finite intensity");
+        if (gl.type == "point") l.type = LightType::Point;
+        else if (gl.type == "spot") l.type = LightType::Spot;
+        else if (gl.type == "directional") l.type = LightType::Directional;
+        else throw InputError(path_, "light '" + l.name + "' has unknown type '" + gl.type + "'");
+        l.position = glm::dvec3(world[3]);
+        l.direction = glm::normalize(glm::vec3(glm::dmat3(world) * glm::dvec3(0, 0, -1)));
+        l.innerConeAngle = float(gl.spot.innerConeAngle);
+        l.outerConeAngle = float(gl.spot.outerConeAngle);
+        l.range = float(gl.range);
+        scene_.lights.push_back(l);
+    }
+
+    static std::vector<std::array<std::uint32_t, 3>> assembleTriangles(int mode, const std::vector<std::uint32_t>& idx) {
+        std::vector<std::array<std::uint32_t, 3>> tris;
+        if (mode == TINYGLTF_MODE_TRIANGLES) {
+            for (std::size_t i = 0; i + 2 < idx.size(); i += 3) tris.push_back({idx[i], idx[i + 1], idx[i + 2]});
+        } else if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
+            // Every other triangle of a strip is reversed to keep one winding.
+            for (std::size_t i = 0; i + 2 < idx.size(); ++i)
+                tris.push_back(i % 2 == 0 ? std::array<std::uint32_t, 3>{idx[i], idx[i + 1], idx[i + 2]}
+                                          : std::array<std::uint32_t, 3>{idx[i + 1], idx[i], idx[i + 2]});
+        } else if (mode == TINYGLTF_MODE_TRIANGLE_FAN) {
+            for (std::size_t i = 1; i + 1 < idx.size(); ++i) tris.push_back({idx[0], idx[i], idx[i + 1]});
+        }
+        return tris;
+    }
+
+    void readPrimitive(int nodeIndex, int meshIndex, int primIndex, const glm::dmat4& world) {
+        const tinygltf::Primitive& prim = model_.meshes[std::size_t(meshIndex)].primitives[std::size_t(primIndex)];
+        const std::string where = "mesh " + std::to_string(meshIndex) + " primitive " + std::to_string(primIndex);
+        const int mode = prim.mode < 0 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
+        if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP && mode != TINYGLTF_MODE_TRIANGLE_FAN) {
+            warn(where + ": points/lines (mode " + std::to_string(mode) + ") skipped");
+            ++scene_.report.skippedPrimitives;
+            return;
+        }
+        auto attr = prim.attributes.find("POSITION");
+        if (attr == prim.attributes.end()) throw InputError(path_, where + " has no POSITION attribute");
+        const std::vector<double> pos = readAccessorFloats(model_, attr->second, 3, path_, where + " POSITION");
+        const std::size_t vertexCount = pos.size() / 3;
+        for (double v : pos)
+            if (!std::isfinite(v)) throw InputError(path_, where + " POSITION has non-finite (NaN or infinite) values");
+
+        std::vector<double> normals, uv0, uv1;
+        if (auto it = prim.attributes.find("NORMAL"); it != prim.attributes.end()) {
+            normals = readAccessorFloats(model_, it->second, 3, path_, where + " NORMAL");
+            if (normals.size() != pos.size()) throw InputError(path_, where + " NORMAL count differs from POSITION count");
+        }
+        int materialIndex = prim.material;
+        if (materialIndex >= int(model_.materials.size()))
+            throw InputError(path_, where + " refers to material " + std::to_string(materialIndex) + ", which does not exist");
+        if (materialIndex < 0) materialIndex = defaultMaterial();
+        const Material& material = scene_.materials[std::size_t(materialIndex)];
+        const std::string uv0Name = "TEXCOORD_" + std::to_string(material.reflectanceTexCoord);
+        if (auto it = prim.attributes.find(uv0Name); it != prim.attributes.end()) {
+            uv0 = readAccessorFloats(model_, it->second, 2, path_, where + " " + uv0Name);
+            if (uv0.size() / 2 != vertexCount) throw InputError(path_, where + " " + uv0Name + " count differs from POSITION count");
+        }
+        if (auto it = prim.attributes.find("TEXCOORD_1"); it != prim.attributes.end()) {
+            uv1 = readAccessorFloats(model_, it->second, 2, path_, where + " TEXCOORD_1");
+            if (uv1.size() / 2 != vertexCount) throw InputError(path_, where + " TEXCOORD_1 count differs from POSITION count");
+        }
+
+        std::vector<std::uint32_t> indices;
+        if (prim.indices >= 0) {
+            indices = readAccessorIndices(model_, prim.indices, path_, where + " indices");
+            for (std::uint32_t i : indices)
+                if (i >= vertexCount)
+                    throw InputError(path_, where + ": index " + std::to_string(i) + " out of range (" +
+                                                std::to_string(vertexCount) + " vertices)");
+        } else {
+            indices.resize(vertexCount);
+            for (std::size_t i = 0; i < vertexCount; ++i) indices[i] = std::uint32_t(i);
+        }
+        const auto triangles = assembleTriangles(mode, indices);
+
+        MeshInstance inst;
+        inst.source = {nodeIndex, meshIndex, primIndex, model_.nodes[std::size_t(nodeIndex)].name};
+        inst.material = materialIndex;
+        inst.hasLightmapUv = !uv1.empty();
+        inst.hasNormals = !normals.empty();
+        const int instanceIndex = int(scene_.instances.size());
+        // A mirroring transform flips the winding; re-reverse it so counter-clockwise stays the front.
+        const bool mirrored = glm::determinant(glm::dmat3(world)) < 0.0;
+        const glm::dmat3 normalMatrix = glm::transpose(glm::inverse(glm::dmat3(world)));
+
+        SurfaceMesh& mesh = inst.mesh;
+        std::vector<SurfaceMesh::VertexHandle> handle(vertexCount);
+        auto makeVertex = [&](std::uint32_t i) {
+            const glm::dvec3 p = glm::dvec3(world * glm::dvec4(pos[3 * i], pos[3 * i + 1], pos[3 * i + 2], 1.0));
+            auto v = mesh.add_vertex({p.x, p.y, p.z});
+            if (!normals.empty()) {
+                glm::dvec3 n = normalMatrix * glm::dvec3(normals[3 * i], normals[3 * i + 1], normals[3 * i + 2]);
+                const double len = glm::length(n);
+                n = len > 0.0 && std::isfinite(len) ? n / len : glm::dvec3(0.0);
+                mesh.set_normal(v, {n.x, n.y, n.z});
+            }
+            if (!uv0.empty()) mesh.set_texcoord2D(v, {float(uv0[2 * i]), float(uv0[2 * i + 1])});
+            if (!uv1.empty()) mesh.lightmapUv(v) = {float(uv1[2 * i]), float(uv1[2 * i + 1])};
+            return v;
+        };
+        auto vertex = [&](std::uint32_t i) {
+            if (!handle[i].is_valid()) handle[i] = makeVertex(i);
+            return handle[i];
+        };
+
+        OpenMeshErrorsMuted muted;
+        std::size_t nonManifold = 0;
+        for (std::size_t t = 0; t < triangles.size(); ++t) {
+            auto tri = triangles[t];
+            if (mirrored) std::swap(tri[1], tri[2]);
+            const glm::dvec3 a = glm::dvec3(world * glm::dvec4(pos[3 * tri[0]], pos[3 * tri[0] + 1], pos[3 * tri[0] + 2], 1.0));
+            const glm::dvec3 b = glm::dvec3(world * glm::dvec4(pos[3 * tri[1]], pos[3 * tri[1] + 1], pos[3 * tri[1] + 2], 1.0));
+            const glm::dvec3 c = glm::dvec3(world * glm::dvec4(pos[3 * tri[2]], pos[3 * tri[2] + 1], pos[3 * tri[2] + 2], 1.0));
+            const double area2 = glm::length(glm::cross(b - a, c - a));
+            const double longest2 = std::max({glm::dot(b - a, b - a), glm::dot(c - b, c - b), glm::dot(a - c, a - c)});
+            // Zero-area: collinear or repeated corners, relative to the triangle's own size.
+            if (!(area2 > 1e-12 * longest2) || tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2]) {
+                ++scene_.report.degenerateTriangles;
+                continue;
+            }
+            auto f = mesh.add_face(vertex(tri[0]), vertex(tri[1]), vertex(tri[2]));
+            if (!f.is_valid()) {
+                // Non-manifold or duplicated face: keep it as a separate sheet so no surface is lost.
+                ++nonManifold;
+                f = mesh.add_face(makeVertex(tri[0]), makeVertex(tri[1]), makeVertex(tri[2]));
+                if (!f.is_valid()) continue;
+            }
+            mesh.material(f) = materialIndex;
+            mesh.instance(f) = instanceIndex;
+            mesh.sourceFace(f) = int(t);
+        }
+        if (nonManifold)
+            warn(where + ": " + std::to_string(nonManifold) + " non-manifold triangles kept as separate sheets");
+        if (mesh.n_faces() == 0) return;
+        mesh.update_face_normals();
+        if (normals.empty()) mesh.update_vertex_normals();
+        ++scene_.report.primitives;
+        scene_.instances.push_back(std::move(inst));
+    }
+
+    const tinygltf::Model& model_;
+    std::string path_;
+    Scene scene_;
+    std::map<int, int> imageToTexture_;
+    int defaultMaterial_ = -1;
+};
+
+}  // namespace
+
+Scene loadGltf(const std::string& path) {
+    std::error_code ec;
+    if (!fs::exists(path, ec)) throw InputError(path, "file not found");
+    if (fs::is_directory(path, ec)) throw InputError(path, "is a directory, not a glTF file");
+    char magic[4] = {0, 0, 0, 0};
+    {
+        std::ifstream in(path, std::ios::binary);
+        if (!in) throw InputError(path, "cannot be opened for reading");
+        in.read(magic, 4);
+    }
+    const bool binary = std::string(magic, 4) == "glTF";
+    std::string ext = fs::path(path).extension().string();
+    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    if (ext == ".glb" && !binary) throw InputError(path, "not a binary glTF (.glb): bad magic bytes");
+    if (!binary && magic[0] != '{' && magic[0] != ' ' && magic[0] != '\n' && magic[0] != '\r' && magic[0] != '\t' &&
+        static_cast<unsigned char>(magic[0]) != 0xEF)
+        throw InputError(path, "not a glTF file (neither JSON nor binary glTF)");
+
+    tinygltf::TinyGLTF loader;
+    tinygltf::Model model;
+    std::string err, warnText;
+    const bool ok = binary ? loader.LoadBinaryFromFile(&model, &err, &warnText, path)
+                           : loader.LoadASCIIFromFile(&model, &err, &warnText, path);
+    if (!ok) throw InputError(path, firstLine(err));
+    if (model.asset.version.rfind("2.", 0) != 0)
+        throw InputError(path, "asset version '" + model.asset.version + "' is not glTF 2.x");
+    return GltfSceneReader(model, path).read();
+}
+
+}  // namespace hemibake

@@ -1,0 +1,64 @@
+#pragma once
+// The solver's view of the scene: flat structure-of-arrays patches (shooters) and elements (receivers),
+// sized for millions of elements. Every element belongs to exactly one patch; a patch's elements are the
+// contiguous run [firstElement, firstElement + elementCount).
+//
+// Double-sided materials produce two elements per surface triangle, one per side, each with its own
+// radiosity: the back copy has reversed winding and a flipped normal, so "front-facing" always means
+// "the side this element receives on". Rasterizers can therefore cull or mark back faces uniformly.
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "mesh/scene.h"
+
+namespace hemibake {
+
+struct ElementArrays {
+    std::vector<glm::dvec3> vertices;                   // world space, shared between elements of one instance side
+    std::vector<glm::vec2> vertexLightmapUv;            // TEXCOORD_1 per vertex (0,0 until UVs exist)
+    std::vector<std::array<std::uint32_t, 3>> triangles;  // per element, counter-clockwise seen from its front
+    std::vector<glm::vec3> normal;                      // unit, pointing to the receiving side
+    std::vector<glm::dvec3> centroid;
+    std::vector<double> areaM2;
+    std::vector<glm::vec3> reflectance;      // ρ, averaged over the element, in [0, 0.999]
+    std::vector<glm::vec3> emittedRadiance;  // L_e, W·m⁻²·sr⁻¹
+    std::vector<std::uint32_t> patch;
+    std::vector<std::uint32_t> instance;     // Scene::instances index
+    std::vector<std::uint32_t> sourceFace;   // triangle index in the instance as loaded
+    std::vector<std::uint8_t> backSide;      // 1 for the back copy of a double-sided surface
+
+    std::size_t size() const { return triangles.size(); }
+};
+
+struct PatchArrays {
+    std::vector<std::uint32_t> firstElement;
+    std::vector<std::uint32_t> elementCount;
+    std::vector<double> areaM2;
+    std::vector<glm::dvec3> centroid;
+    std::vector<glm::vec3> normal;           // area-weighted mean of its elements' normals, unit
+    std::vector<glm::vec3> reflectance;      // area-weighted mean of its elements
+    std::vector<glm::vec3> emittedRadiance;  // area-weighted mean of its elements
+    std::vector<std::uint32_t> instance;
+
+    std::size_t size() const { return firstElement.size(); }
+};
+
+struct PatchMesh {
+    ElementArrays elements;
+    PatchArrays patches;
+    // Rendering and hemicube placement work relative to this point, in float, so that a scene 1e5 m from the
+    // world origin keeps sub-millimetre precision. It is the centre of the scene's bounds.
+    glm::dvec3 origin{0.0};
+    double sceneDiagonalM = 0.0;
+};
+
+struct SubdivisionSettings {
+    double patchSizeM = 0.25;         // longest edge of a shooting patch
+    double elementSizeM = 0.05;       // longest edge of a receiving element (≤ patch size)
+    double emitterPatchSizeM = 0.0;   // longest edge of an emitter patch; 0 = patchSizeM / 4
+};
+
+}  // namespace hemibake

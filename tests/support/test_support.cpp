@@ -1,0 +1,1 @@
+// Shared test helpers are added here as suites need them.
