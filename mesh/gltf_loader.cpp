@@ -352,11 +352,14 @@ private:
                 ++scene_.report.degenerateTriangles;
                 continue;
             }
-            auto f = mesh.add_face(vertex(tri[0]), vertex(tri[1]), vertex(tri[2]));
+            // Named in order: argument evaluation order is unspecified and vertex numbering should not depend on it.
+            const auto v0 = vertex(tri[0]), v1 = vertex(tri[1]), v2 = vertex(tri[2]);
+            auto f = mesh.add_face(v0, v1, v2);
             if (!f.is_valid()) {
                 // Non-manifold or duplicated face: keep it as a separate sheet so no surface is lost.
                 ++nonManifold;
-                f = mesh.add_face(makeVertex(tri[0]), makeVertex(tri[1]), makeVertex(tri[2]));
+                const auto s0 = makeVertex(tri[0]), s1 = makeVertex(tri[1]), s2 = makeVertex(tri[2]);
+                f = mesh.add_face(s0, s1, s2);
                 if (!f.is_valid()) continue;
             }
             mesh.material(f) = materialIndex;

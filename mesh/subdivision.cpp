@@ -42,7 +42,9 @@ void validate(const SubdivisionSettings& s) {
 }  // namespace
 
 std::size_t bisectLongEdges(SurfaceMesh& mesh, double maxEdgeM) {
-    const double limit2 = maxEdgeM * maxEdgeM;
+    // An edge exactly at the limit must not split on rounding alone (it would, 1e5 m from the origin), so the
+    // limit carries a relative tolerance far above double rounding and far below any meaningful length.
+    const double limit2 = maxEdgeM * maxEdgeM * (1.0 + 1e-6);
     std::size_t splits = 0;
     for (bool changed = true; changed;) {
         changed = false;

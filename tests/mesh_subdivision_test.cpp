@@ -1,0 +1,113 @@
+// Patches and elements: conforming bisection preserves area, bounds edge lengths, and keeps each patch's
+// elements contiguous; emitters are finer; double-sided surfaces get a back copy.
+#include <gtest/gtest.h>
+
+#include "mesh/scene_builder.h"
+#include "mesh/subdivision.h"
+
+using namespace hemibake;
+
+namespace {
+
+double maxEdge(const PatchMesh& pm, std::size_t e) {
+    const auto& t = pm.elements.triangles[e];
+    const auto& v = pm.elements.vertices;
+    return std::max({glm::length(v[t[0]] - v[t[1]]), glm::length(v[t[1]] - v[t[2]]), glm::length(v[t[2]] - v[t[0]])});
+}
+
+Scene roomWithLamp(bool lampDoubleSided = false, glm::dvec3 offset = glm::dvec3(0.0)) {
+    SceneBuilder b("room");
+    const int white = b.addMaterial(glm::vec3(0.7f));
+    const int lamp = b.addMaterial(glm::vec3(0.5f), glm::vec3(10.0f), lampDoubleSided);
+    b.addBox(offset + glm::dvec3(0, 0, 0), offset + glm::dvec3(2, 1, 3), white, true);
+    b.addQuad(offset + glm::dvec3(0.8, 0.99, 1.2), offset + glm::dvec3(1.2, 0.99, 1.2),
+              offset + glm::dvec3(1.2, 0.99, 1.8), offset + glm::dvec3(0.8, 0.99, 1.8), lamp, "lamp");
+    return b.build();
+}
+
+}  // namespace
+
+TEST(Subdivision, AreaPreservedAndEdgesBounded) {
+    const Scene scene = roomWithLamp();
+    SubdivisionSettings s;
+    s.patchSizeM = 0.5;
+    s.elementSizeM = 0.125;
+    const PatchMesh pm = subdivide(scene, s);
+    double area = 0.0;
+    for (std::size_t e = 0; e < pm.elements.size(); ++e) {
+        area += pm.elements.areaM2[e];
+        EXPECT_LE(maxEdge(pm, e), s.elementSizeM * (1 + 1e-6));  // the documented split tolerance
+    }
+    EXPECT_NEAR(area, scene.surfaceAreaM2(), 1e-9 * area);
+    double patchArea = 0.0;
+    for (std::size_t p = 0; p < pm.patches.size(); ++p) patchArea += pm.patches.areaM2[p];
+    EXPECT_NEAR(patchArea, area, 1e-9 * area);
+}
+
+TEST(Subdivision, PatchesOwnContiguousElementRuns) {
+    const PatchMesh pm = subdivide(roomWithLamp(), {0.5, 0.125, 0.0});
+    std::size_t expectedFirst = 0;
+    for (std::size_t p = 0; p < pm.patches.size(); ++p) {
+        EXPECT_EQ(pm.patches.firstElement[p], expectedFirst);
+        ASSERT_GT(pm.patches.elementCount[p], 0u);
+        double sum = 0.0;
+        for (std::uint32_t e = pm.patches.firstElement[p]; e < pm.patches.firstElement[p] + pm.patches.elementCount[p]; ++e) {
+            EXPECT_EQ(pm.elements.patch[e], p);
+            EXPECT_GT(glm::dot(pm.elements.normal[e], pm.patches.normal[p]), 0.999f);
+            sum += pm.elements.areaM2[e];
+        }
+        EXPECT_NEAR(sum, pm.patches.areaM2[p], 1e-12 * sum);
+        expectedFirst += pm.patches.elementCount[p];
+    }
+    EXPECT_EQ(expectedFirst, pm.elements.size());
+}
+
+TEST(Subdivision, EmittersAreSubdividedFiner) {
+    SubdivisionSettings s{0.5, 0.125, 0.0};
+    const PatchMesh pm = subdivide(roomWithLamp(), s);
+    double largestEmitterPatch = 0.0, largestOtherPatch = 0.0;
+    for (std::size_t p = 0; p < pm.patches.size(); ++p) {
+        const bool emitter = pm.patches.emittedRadiance[p].x > 0.0f;
+        (emitter ? largestEmitterPatch : largestOtherPatch) =
+            std::max(emitter ? largestEmitterPatch : largestOtherPatch, pm.patches.areaM2[p]);
+    }
+    // Patch size /4 ⇒ emitter patches at most (0.125)²/2 m² (right triangles of that leg length).
+    EXPECT_LE(largestEmitterPatch, 0.125 * 0.125 / 2 * (1 + 1e-5));
+    EXPECT_GT(largestOtherPatch, largestEmitterPatch);
+}
+
+TEST(Subdivision, DoubleSidedSurfacesGetABackCopy) {
+    const PatchMesh single = subdivide(roomWithLamp(false), {0.5, 0.125, 0.0});
+    const PatchMesh both = subdivide(roomWithLamp(true), {0.5, 0.125, 0.0});
+    std::size_t lampFront = 0, lampBack = 0;
+    for (std::size_t e = 0; e < both.elements.size(); ++e) {
+        if (both.elements.emittedRadiance[e].x == 0.0f) continue;
+        if (both.elements.backSide[e]) {
+            ++lampBack;
+            EXPECT_NEAR(both.elements.normal[e].y, 1.0f, 1e-6f);
+        } else {
+            ++lampFront;
+            EXPECT_NEAR(both.elements.normal[e].y, -1.0f, 1e-6f);
+        }
+    }
+    EXPECT_GT(lampFront, 0u);
+    EXPECT_EQ(lampFront, lampBack);
+    EXPECT_EQ(both.elements.size(), single.elements.size() + lampBack);
+}
+
+TEST(Subdivision, FarFromOriginKeepsGeometry) {
+    const glm::dvec3 far(1e5, -2e5, 3e5);
+    const PatchMesh near = subdivide(roomWithLamp(), {0.5, 0.125, 0.0});
+    const PatchMesh away = subdivide(roomWithLamp(false, far), {0.5, 0.125, 0.0});
+    ASSERT_EQ(near.elements.size(), away.elements.size());
+    for (std::size_t e = 0; e < near.elements.size(); ++e) {
+        EXPECT_NEAR(away.elements.areaM2[e], near.elements.areaM2[e], 1e-9);
+        EXPECT_NEAR(glm::length(away.elements.centroid[e] - far - near.elements.centroid[e]), 0.0, 1e-9);
+    }
+    EXPECT_NEAR(glm::length(away.origin - far - near.origin), 0.0, 1e-9);
+}
+
+TEST(Subdivision, InvalidSettingsAreRejected) {
+    EXPECT_THROW(subdivide(roomWithLamp(), {0.0, 0.1, 0.0}), std::invalid_argument);
+    EXPECT_THROW(subdivide(roomWithLamp(), {0.5, -1.0, 0.0}), std::invalid_argument);
+}
