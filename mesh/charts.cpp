@@ -7,6 +7,7 @@
 #include <queue>
 
 #include <Eigen/Dense>
+#include <OpenMesh/Core/System/omstream.hh>
 
 namespace hemibake {
 
@@ -395,6 +396,77 @@ ChartSet computeCharts(const SurfaceMesh& mesh, const ChartSettings& s) {
         }
     }
     return out;
+}
+
+}  // namespace hemibake
+
+namespace hemibake {
+
+std::array<std::int32_t, 3> faceCorners(const SurfaceMesh& mesh, int f) {
+    auto h = mesh.halfedge_handle(SurfaceMesh::FaceHandle(f));
+    std::array<std::int32_t, 3> v{};
+    for (int k = 0; k < 3; ++k, h = mesh.next_halfedge_handle(h)) v[std::size_t(k)] = mesh.to_vertex_handle(h).idx();
+    return v;
+}
+
+std::optional<WeldedMesh> weldCoincidentVertices(const SurfaceMesh& mesh) {
+    const std::size_t nV = mesh.n_vertices();
+    // Representative of each vertex: the first vertex with a bit-identical position (−0 taken as +0).
+    std::vector<std::int32_t> rep(nV);
+    std::vector<std::int32_t> order(nV);
+    std::iota(order.begin(), order.end(), 0);
+    auto key = [&](int v) {
+        const auto& p = mesh.point(SurfaceMesh::VertexHandle(v));
+        return std::array<double, 3>{p[0] + 0.0, p[1] + 0.0, p[2] + 0.0};
+    };
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return key(a) < key(b); });
+    std::size_t merged = 0;
+    for (std::size_t i = 0; i < nV; ++i) {
+        const int v = order[i];
+        if (i > 0 && key(order[i - 1]) == key(v)) {
+            rep[std::size_t(v)] = rep[std::size_t(order[i - 1])];
+            ++merged;
+        } else {
+            rep[std::size_t(v)] = v;
+        }
+    }
+    if (merged == 0) return std::nullopt;
+    // OpenMesh reports refused (non-manifold) faces on omerr; those are handled below.
+    struct Muted {
+        bool was = omerr().is_enabled();
+        Muted() { omerr().disable(); }
+        ~Muted() { if (was) omerr().enable(); }
+    } muted;
+
+    WeldedMesh w;
+    SurfaceMesh& out = w.mesh;
+    out.reserve(nV - merged, 3 * mesh.n_faces() / 2, mesh.n_faces());
+    std::vector<SurfaceMesh::VertexHandle> welded(nV);
+    for (std::size_t v = 0; v < nV; ++v)
+        if (rep[v] == std::int32_t(v)) welded[v] = out.add_vertex(mesh.point(SurfaceMesh::VertexHandle(int(v))));
+    w.cornerSource.resize(3 * mesh.n_faces());
+    w.mergedVertices = merged;
+    for (std::size_t f = 0; f < mesh.n_faces(); ++f) {
+        const auto c = faceCorners(mesh, int(f));
+        SurfaceMesh::VertexHandle wv[3];
+        for (int k = 0; k < 3; ++k) wv[k] = welded[std::size_t(rep[std::size_t(c[std::size_t(k)])])];
+        SurfaceMesh::FaceHandle fh;
+        if (wv[0] != wv[1] && wv[1] != wv[2] && wv[0] != wv[2]) fh = out.add_face(wv[0], wv[1], wv[2]);
+        if (!fh.is_valid()) {
+            // Would be non-manifold (or degenerate): keep the face on vertices of its own.
+            for (int k = 0; k < 3; ++k) wv[k] = out.add_vertex(mesh.point(SurfaceMesh::VertexHandle(c[std::size_t(k)])));
+            fh = out.add_face(wv[0], wv[1], wv[2]);
+        }
+        out.material(fh) = mesh.material(SurfaceMesh::FaceHandle(int(f)));
+        out.instance(fh) = mesh.instance(SurfaceMesh::FaceHandle(int(f)));
+        out.sourceFace(fh) = mesh.sourceFace(SurfaceMesh::FaceHandle(int(f)));
+        // Welded corner order (halfedge order) is a rotation of (wv0, wv1, wv2).
+        const auto wc = faceCorners(out, fh.idx());
+        for (int k = 0; k < 3; ++k)
+            for (int j = 0; j < 3; ++j)
+                if (wc[std::size_t(k)] == wv[j].idx()) w.cornerSource[3 * std::size_t(fh.idx()) + std::size_t(k)] = c[std::size_t(j)];
+    }
+    return w;
 }
 
 }  // namespace hemibake

@@ -15,6 +15,7 @@
 // window stays one chart); set `allowPlanarHoles = false` to split them too.
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -35,6 +36,7 @@ struct ChartSettings {
     double maxChartAreaM2 = 0.0;  // 0 = unlimited
     bool splitAtMaterials = true;
     bool allowPlanarHoles = true;
+    bool weldVertices = true;  // unwrapScene: segment on weldCoincidentVertices(mesh) (see below)
     int maxSplitDepth = 16;  // non-disk splitting recursion limit; beyond it the chart falls apart into faces
 };
 
@@ -126,6 +128,21 @@ std::vector<std::vector<std::int32_t>> splitFacesInHalf(ChartWorkspace& ws, std:
 // as they are; beyond maxDepth the remaining parts become single faces. `splits` counts the cuts made.
 std::vector<std::vector<std::int32_t>> splitIntoDisks(ChartWorkspace& ws, std::vector<std::int32_t> faces, int maxDepth,
                                                       std::size_t* splits = nullptr);
+
+// Non-indexed and split-normal glTF meshes share no vertices between triangles that touch, which would make
+// every triangle a chart. Segmentation and parameterization therefore run on a copy whose coincident vertices
+// (bit-identical positions) are merged wherever that keeps the mesh manifold; faces keep their indices and
+// corner k of welded face f (halfedge order) came from vertex cornerSource[3f + k] of the input.
+struct WeldedMesh {
+    SurfaceMesh mesh;
+    std::vector<std::int32_t> cornerSource;
+    std::size_t mergedVertices = 0;
+};
+// nullopt when no two vertices coincide (use the input as it is).
+std::optional<WeldedMesh> weldCoincidentVertices(const SurfaceMesh& mesh);
+
+// Mesh vertex indices of face f's corners in halfedge order (the order every chart routine uses).
+std::array<std::int32_t, 3> faceCorners(const SurfaceMesh& mesh, int f);
 
 // Edge-connected components of a face set.
 std::vector<std::vector<std::int32_t>> connectedComponents(ChartWorkspace& ws, std::span<const std::int32_t> faces);

@@ -339,7 +339,7 @@ ParameterizationResult parameterizeCharts(const SurfaceMesh& mesh, const ChartSe
     ChartWorkspace ws(mesh);
     ParameterizationResult result;
     auto& stats = result.stats;
-    const double planarTol = 1e-3;
+    const double planarTol = settings.planarToleranceRad;
 
     auto emit = [&](ParamChart&& c, ParamMethod m, int source) {
         c.method = m;

@@ -29,6 +29,7 @@ const char* paramMethodName(ParamMethod m);
 
 struct ParameterizeSettings {
     double minAreaRatio = 1e-3;    // UV area / 3D area below this (after area normalization) = degenerate
+    double planarToleranceRad = 1e-3;  // parts of split charts with all normals within this are projected
     int maxSplitDepth = 10;        // failed charts are halved at most this deep, then go per-triangle
     bool checkBoundaryOverlap = true;
 };

@@ -47,7 +47,55 @@ inline std::vector<PointCase> pointCases() {
 struct ErrorStats {
     double rms = 0.0, max = 0.0, mean = 0.0;  // relative errors
     double meanFormFactor = 0.0;
+    double worstOverBound = 0.0;  // max over samples of |F − exact| / aliasingBound (≤ 1 is guaranteed)
 };
+
+// A-priori worst case of one hemicube's aliasing error for a polygon seen from `p` in `frame`: only pixels
+// cut by the projected boundary can be wrong, by at most half their weight (the pixel centre decides, so the
+// wrong side covers ≤ 1/2 for a boundary straight at pixel scale), and a line touches pixels within a band
+// √2 pixels wide. Bound = (√2/2) × Σ over edges of the weight of a one-pixel band along the edge, integrated
+// numerically in each face's own coordinates (the exact weights are the kernel × pixel area there).
+inline double aliasingBound(const HemicubeFrame& frame, const std::vector<glm::dvec3>& polygon, int resolution) {
+    glm::dvec3 t, b;
+    frame.tangentFrame(t, b);
+    const glm::dvec3 n = glm::normalize(frame.normal);
+    auto faceCoordinates = [&](const glm::dvec3& world, int& face, glm::dvec2& uv) {
+        const glm::dvec3 d(glm::dot(world - frame.position, t), glm::dot(world - frame.position, b),
+                           glm::dot(world - frame.position, n));
+        if (d.z >= std::max(std::abs(d.x), std::abs(d.y))) {
+            face = 0;
+            uv = {d.x / d.z, d.y / d.z};
+        } else if (std::abs(d.x) >= std::abs(d.y)) {
+            face = d.x > 0 ? 1 : 2;
+            uv = {d.y / std::abs(d.x), d.z / std::abs(d.x)};
+        } else {
+            face = d.y > 0 ? 3 : 4;
+            uv = {d.x / std::abs(d.y), d.z / std::abs(d.y)};
+        }
+    };
+    auto density = [](int face, const glm::dvec2& uv) {  // exact weight per unit face area
+        const double q = 1.0 + uv.x * uv.x + uv.y * uv.y;
+        return (face == 0 ? 1.0 : std::max(uv.y, 0.0)) / (std::numbers::pi * q * q);
+    };
+    const double pixel = 2.0 / resolution;
+    double band = 0.0;
+    const int steps = std::max(8, 4096 / static_cast<int>(polygon.size()));
+    for (std::size_t e = 0; e < polygon.size(); ++e) {
+        const glm::dvec3 a = polygon[e], c = polygon[(e + 1) % polygon.size()];
+        int face0;
+        glm::dvec2 uv0;
+        faceCoordinates(a, face0, uv0);
+        for (int k = 1; k <= steps; ++k) {
+            int face1;
+            glm::dvec2 uv1;
+            faceCoordinates(a + (c - a) * (double(k) / steps), face1, uv1);
+            if (face1 == face0) band += pixel * glm::length(uv1 - uv0) * 0.5 * (density(face0, uv0) + density(face1, uv1));
+            face0 = face1;
+            uv0 = uv1;
+        }
+    }
+    return std::sqrt(0.5) * band;
+}
 
 // `samples` hemicubes, each randomly rotated and shifted by up to ±1 pixel (at the target distance) in the
 // tangent plane, each compared with the exact F for its own position (Lambert's formula): so the statistics
@@ -62,12 +110,15 @@ inline ErrorStats pointCaseErrors(HemicubeRenderer& renderer, const PointCase& c
     for (int k = 0; k < samples; ++k) {
         const glm::dvec3 p = c.point + glm::dvec3(unit(rng) * pixel, unit(rng) * pixel, 0.0);
         const double exact = pointPolygonFormFactor(p, {0, 0, 1}, c.polygon);
-        renderer.renderFormFactors(HemicubeFrame::randomlyRotated(p, {0, 0, 1}, rng()), list);
+        const HemicubeFrame frame = HemicubeFrame::randomlyRotated(p, {0, 0, 1}, rng());
+        renderer.renderFormFactors(frame, list);
         const double e = list.sum() / exact - 1.0;
         stats.rms += e * e;
         stats.mean += e;
         stats.max = std::max(stats.max, std::abs(e));
         stats.meanFormFactor += list.sum();
+        stats.worstOverBound = std::max(stats.worstOverBound,
+                                        std::abs(list.sum() - exact) / aliasingBound(frame, c.polygon, renderer.resolution()));
     }
     stats.rms = std::sqrt(stats.rms / samples);
     stats.mean /= samples;

@@ -1,0 +1,51 @@
+#pragma once
+// Every knob of a bake, in one struct: printed into bake.json, so a bake is reproducible from its report.
+#include <cstdint>
+#include <string>
+
+#include <glm/glm.hpp>
+
+#include "mesh/patches.h"
+
+namespace hemibake {
+
+enum class SolverKind {
+    Shoot,   // progressive refinement shooting only
+    Gather,  // Jacobi gathering sweeps only
+    Hybrid,  // shoot to the bound, then gather sweeps at the receivers (default)
+};
+
+struct SolverSettings {
+    SolverKind kind = SolverKind::Hybrid;
+    int hemicubeResolution = 128;       // R: front face R×R pixels, four R×R/2 side faces
+    double epsilon = 1e-3;              // stop when unshot power ≤ epsilon × injected power
+    double maxTimeSeconds = 0.0;        // 0 = no limit
+    std::uint64_t maxShots = 0;         // 0 = no limit
+    int gatherSweeps = 1;               // Hybrid: gathering sweeps after shooting
+    int maxGatherSweeps = 200;          // Gather: sweeps at most (it stops earlier at the epsilon bound)
+    bool ambientCorrection = true;      // add Cohen et al. 1988's ambient term for what is still unshot
+    // A patch re-shoots from one hemicube per element when something is nearer than this × the patch's size
+    // (GROUND_TRUTH §3.4: one centred hemicube is 4.8 % low for hinged squares, 16 points 0.01 %).
+    double proximityFactor = 2.0;
+    int threads = 0;                    // 0 = all cores
+    std::uint64_t seed = 1;             // hemicube rotations and sampling
+};
+
+struct LightingSettings {
+    glm::vec3 skyRadiance{0.0f};        // uniform sky, W·m⁻²·sr⁻¹, seen where rays and hemicube pixels escape
+    int skySamplesPerElement = 64;      // cosine-weighted visibility rays for direct sky light
+    float sunAngularDiameterRad = 0.0f; // > 0: directional lights become soft-shadowed discs
+    int lightSamplesPerElement = 16;    // stratified points per element for punctual light shadows
+};
+
+struct BakeSettings {
+    std::string preset = "medium";
+    SubdivisionSettings subdivision;
+    SolverSettings solver;
+    LightingSettings lighting;
+};
+
+const char* solverKindName(SolverKind kind);
+SolverKind parseSolverKind(const std::string& name);  // throws std::invalid_argument
+
+}  // namespace hemibake

@@ -1,0 +1,31 @@
+#pragma once
+// The solver's state, flat per element and per patch, all in double: at ρ = 0.999 float accumulation loses
+// the tail of the geometric series (GROUND_TRUTH §2.E: −3.4e-3 at 384 patches, growing with N).
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "mesh/patches.h"
+
+namespace hemibake {
+
+struct RadiositySolution {
+    // Per element.
+    std::vector<glm::dvec3> radiosity;           // B, W·m⁻², including emission π·L_e
+    std::vector<glm::dvec3> irradiance;          // H, W·m⁻², incident (excludes own emission); texel = H/π
+    // Per patch: radiosity received but not yet shot, W·m⁻² (area-weighted over its elements).
+    std::vector<glm::dvec3> unshotRadiosity;
+
+    // Ambient term (Cohen et al. 1988): the radiosity that the unshot power will still add, spread
+    // uniformly; zero once converged or when disabled.
+    glm::dvec3 ambientRadiosity{0.0};
+
+    void resize(const PatchMesh& mesh);
+    // Irradiance including the ambient estimate: what the lightmap stores (as H/π) mid-solve.
+    glm::dvec3 displayIrradiance(std::size_t element) const { return irradiance[element] + ambientRadiosity; }
+    glm::dvec3 displayRadiosity(const PatchMesh& mesh, std::size_t element) const {
+        return radiosity[element] + glm::dvec3(mesh.elements.reflectance[element]) * ambientRadiosity;
+    }
+};
+
+}  // namespace hemibake

@@ -1,0 +1,61 @@
+#include "baker/sky_light.h"
+
+#include <cmath>
+
+#include <tbb/parallel_for.h>
+
+namespace hemibake {
+
+namespace {
+
+// SplitMix64: a tiny, well-mixed, seedable generator for jitter (reproducible from the seed alone).
+double uniform01(std::uint64_t& state) {
+    std::uint64_t z = (state += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    z ^= z >> 31;
+    return double(z >> 11) * 0x1.0p-53;
+}
+
+void orthonormalBasis(const glm::dvec3& n, glm::dvec3& t, glm::dvec3& b) {
+    // Duff et al. 2017: branchless and continuous except at n.z = -1 exactly.
+    const double sign = std::copysign(1.0, n.z);
+    const double a = -1.0 / (sign + n.z);
+    const double c = n.x * n.y * a;
+    t = glm::dvec3(1.0 + sign * n.x * n.x * a, sign * c, -sign * n.x);
+    b = glm::dvec3(c, sign + n.y * n.y * a, -n.y);
+}
+
+}  // namespace
+
+double skyVisibility(const EmbreeScene& rays, const glm::dvec3& p, const glm::dvec3& n, int samples, std::uint64_t seed) {
+    const int side = std::max(1, int(std::ceil(std::sqrt(double(std::max(samples, 1))))));
+    glm::dvec3 t, b;
+    orthonormalBasis(n, t, b);
+    const glm::dvec3 origin = rays.offsetFromSurface(p, n);
+    std::uint64_t state = seed;
+    int open = 0;
+    for (int i = 0; i < side; ++i)
+        for (int j = 0; j < side; ++j) {
+            // Stratified on the unit square, mapped to the cosine-weighted hemisphere (Malley's method).
+            const double u = (i + uniform01(state)) / side, v = (j + uniform01(state)) / side;
+            const double r = std::sqrt(u), phi = 2.0 * M_PI * v;
+            const glm::dvec3 dir = r * std::cos(phi) * t + r * std::sin(phi) * b + std::sqrt(std::max(0.0, 1.0 - u)) * n;
+            open += rays.occludedRay(origin, dir, std::numeric_limits<double>::infinity()) ? 0 : 1;
+        }
+    return double(open) / double(side * side);
+}
+
+std::vector<glm::dvec3> elementsSkyIrradianceOverPi(const EmbreeScene& rays, const PatchMesh& mesh, glm::vec3 skyRadiance,
+                                                    int samplesPerElement, std::uint64_t seed) {
+    std::vector<glm::dvec3> out(mesh.elements.size(), glm::dvec3(0.0));
+    if (skyRadiance == glm::vec3(0.0f)) return out;
+    tbb::parallel_for(std::size_t(0), out.size(), [&](std::size_t e) {
+        const double v = skyVisibility(rays, mesh.elements.centroid[e], glm::dvec3(mesh.elements.normal[e]),
+                                       samplesPerElement, seed ^ (e * 0xD1B54A32D192ED03ull));
+        out[e] = v * glm::dvec3(skyRadiance);
+    });
+    return out;
+}
+
+}  // namespace hemibake

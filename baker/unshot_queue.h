@@ -1,0 +1,28 @@
+#pragma once
+// Which patch has the most unshot power, and how much is unshot in total, under frequent point updates.
+// A complete binary tree over the patches keeps both the maximum and the sum of its leaves: an update is
+// O(log n), the maximum and the total are O(1), and the total is a pairwise sum (no long-run drift from
+// adding and subtracting into one accumulator).
+#include <cstdint>
+#include <vector>
+
+namespace hemibake {
+
+class UnshotQueue {
+public:
+    explicit UnshotQueue(std::size_t count);
+    void set(std::size_t index, double powerWatts);
+    double get(std::size_t index) const { return max_[leaves_ + index]; }
+    std::size_t argmax() const;
+    double maxPower() const { return max_[1]; }
+    double totalPower() const { return sum_[1]; }
+    std::size_t size() const { return count_; }
+
+private:
+    std::size_t count_;
+    std::size_t leaves_;
+    std::vector<double> max_;
+    std::vector<double> sum_;
+};
+
+}  // namespace hemibake

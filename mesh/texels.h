@@ -1,0 +1,48 @@
+#pragma once
+// Lightmap texels: where on the surface each covered atlas texel samples.
+//
+// Coverage is conservative: every texel that a chart triangle touches (overlaps by more than
+// kCoverageShrinkTexels = 1e-3 texel, which absorbs float rounding of the stored UVs) gets exactly one sample.
+// The sample point is the texel centre when the centre lies inside a triangle of the atlas, else the closest
+// point (in UV) on the triangles touching the texel; among several candidates (neighbouring triangles, or
+// overlapping existing UVs) the closest wins, ties going to the first in chart order. The world position is
+// interpolated in double with the sample's barycentric coordinates; the normal is the face's geometric normal
+// (the side counter-clockwise winding faces).
+//
+// The position is then nudged off the surface along that normal by
+//     offset = normalOffsetRelative × (1 + max(|x|, |y|, |z|))   metres
+// (default 1e-5: 10 µm near the origin, 1 mm 100 m away — well above float ray-tracer precision there and far
+// below any texel). Moving samples out of nearby intersecting geometry is the baker's job, not this one.
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "mesh/uv_atlas.h"
+
+namespace hemibake {
+
+struct TexelSettings {
+    double normalOffsetRelative = 1e-5;
+    double coverageShrinkTexels = kCoverageShrinkTexels;
+};
+
+// The covered texels of one atlas as structure-of-arrays, in row-major order (y, then x).
+struct AtlasTexels {
+    std::int32_t atlas = 0;
+    std::int32_t size = 0;
+    std::vector<std::uint16_t> x, y;           // texel column, row (row 0 at the top, v down)
+    std::vector<glm::dvec3> position;          // world space, nudged along the normal
+    std::vector<glm::vec3> normal;             // unit geometric normal of the face
+    std::vector<std::int32_t> instance;        // Scene::instances index
+    std::vector<std::int32_t> face;            // SurfaceMesh face index within the instance
+    std::vector<glm::vec3> barycentric;        // of the (un-nudged) sample, weights of the face's corners in
+                                               // the order of its unwrapped triangle
+    std::vector<std::uint8_t> centreInside;    // 1: sample at the texel centre; 0: closest point of the chart
+
+    std::size_t count() const { return x.size(); }
+};
+
+std::vector<AtlasTexels> computeTexels(const Scene& scene, const UvAtlas& atlas, const TexelSettings& settings = {});
+
+}  // namespace hemibake

@@ -1,0 +1,323 @@
+#include "raster/hemicube.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <string>
+
+namespace hemibake {
+
+namespace {
+
+const char* kVertexShader = R"(#version 330 core
+layout(location = 0) in vec3 positionRelOrigin;
+layout(location = 1) in uint elementId;
+uniform vec3 eyeRelOrigin;
+uniform mat3 faceRows;   // rows: right, up, forward of this face
+uniform vec2 yTransform; // clip.y = up*x - forward*y: (1,0) full face, (2,1) upper half of a side face
+uniform float nearM;
+flat out uint element;
+void main() {
+    vec3 v = faceRows * (positionRelOrigin - eyeRelOrigin);
+    // Reversed-Z with an infinite far plane: depth = near/forward, never clipped far away.
+    gl_Position = vec4(v.x, v.y * yTransform.x - v.z * yTransform.y, nearM, v.z);
+    element = elementId;
+}
+)";
+
+// The two sides of a double-sided surface are coincident elements with opposite winding, so their depths tie
+// (or differ by interpolation ulps, depending on vertex order). Pushing back faces back by 2^-20 relative
+// (16 float ulps) makes the front side win regardless of draw order.
+#define HEMIBAKE_BACKFACE_DEPTH "gl_FragDepth = gl_FrontFacing ? gl_FragCoord.z : gl_FragCoord.z * (1.0 - 1.0 / 1048576.0);\n"
+
+const char* kItemFragmentShader = R"(#version 330 core
+flat in uint element;
+layout(location = 0) out uint item;
+void main() {
+    item = gl_FrontFacing ? element : 0xFFFFFFFEu;
+)" HEMIBAKE_BACKFACE_DEPTH "}\n";
+
+// Alpha tags the pixel class for the fractions: 0 sky (clear value), 1 front hit, 2 back face.
+const char* kRadianceFragmentShader = R"(#version 330 core
+flat in uint element;
+uniform samplerBuffer elementRadiance;
+layout(location = 1) out vec4 radiance;
+void main() {
+    radiance = gl_FrontFacing ? vec4(texelFetch(elementRadiance, int(element)).rgb, 1.0) : vec4(0.0, 0.0, 0.0, 2.0);
+)" HEMIBAKE_BACKFACE_DEPTH "}\n";
+
+std::uint64_t splitMix64(std::uint64_t x) {
+    x += 0x9E3779B97F4A7C15ull;
+    x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
+    x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
+    return x ^ (x >> 31);
+}
+
+// Largest value of plane·(p - eye) over the box: the box is outside the half-space when it is negative.
+float maxAlongPlane(const glm::vec3& plane, const SceneBuffers::Chunk& chunk, const glm::vec3& eye) {
+    const glm::vec3 corner(plane.x >= 0.0f ? chunk.boundsMax.x : chunk.boundsMin.x,
+                           plane.y >= 0.0f ? chunk.boundsMax.y : chunk.boundsMin.y,
+                           plane.z >= 0.0f ? chunk.boundsMax.z : chunk.boundsMin.z);
+    return glm::dot(plane, corner - eye);
+}
+
+}  // namespace
+
+HemicubeFrame HemicubeFrame::randomlyRotated(const glm::dvec3& position, const glm::dvec3& normal, std::uint64_t seed) {
+    const double unit = static_cast<double>(splitMix64(seed) >> 11) * 0x1.0p-53;
+    return HemicubeFrame{position, normal, 2.0 * std::numbers::pi * unit};
+}
+
+void HemicubeFrame::tangentFrame(glm::dvec3& tangent, glm::dvec3& bitangent) const {
+    const glm::dvec3 n = glm::normalize(normal);
+    // Duff et al. 2017, "Building an orthonormal basis, revisited": continuous except at n.z = 0 sign flips.
+    const double sign = std::copysign(1.0, n.z);
+    const double a = -1.0 / (sign + n.z);
+    const double b = n.x * n.y * a;
+    const glm::dvec3 t0(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x);
+    const glm::dvec3 b0 = glm::cross(n, t0);
+    const double c = std::cos(rotationRadians), s = std::sin(rotationRadians);
+    tangent = glm::normalize(c * t0 + s * b0);
+    bitangent = glm::cross(n, tangent);
+}
+
+double FormFactorList::sum() const {
+    double total = 0.0;
+    for (double f : formFactors) total += f;
+    return total;
+}
+
+void FormFactorList::clear() {
+    elements.clear();
+    formFactors.clear();
+    skyFraction = backfaceFraction = 0.0;
+    minDepthM = std::numeric_limits<double>::infinity();
+}
+
+HemicubeRenderer::HemicubeRenderer(const SceneBuffers& scene, int resolution)
+    : scene_(&scene), weights_(resolution), eyeOffsetM_(kEyeOffsetPerDiagonal * scene.sceneDiagonalM()),
+      nearPlaneM_(kNearPlanePerEyeOffset * eyeOffsetM_) {
+    const GlContext& context = scene.context();
+    auto bound = context.bind();
+    const GlFunctions& gl = context.gl();
+    const int width = weights_.atlasWidth(), height = weights_.atlasHeight();
+
+    auto renderbuffer = [&](GLenum format) {
+        GlObject buffer(context, GlObjectKind::Renderbuffer);
+        gl.BindRenderbuffer(GL_RENDERBUFFER, buffer.id());
+        gl.RenderbufferStorage(GL_RENDERBUFFER, format, width, height);
+        return buffer;
+    };
+    itemBuffer_ = renderbuffer(GL_R32UI);
+    radianceBuffer_ = renderbuffer(GL_RGBA32F);
+    depthBuffer_ = renderbuffer(GL_DEPTH_COMPONENT32F);
+    gl.BindRenderbuffer(GL_RENDERBUFFER, 0);
+    framebuffer_ = GlObject(context, GlObjectKind::Framebuffer);
+    gl.BindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
+    gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, itemBuffer_.id());
+    gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_RENDERBUFFER, radianceBuffer_.id());
+    gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depthBuffer_.id());
+    const GLenum status = gl.CheckFramebufferStatus(GL_FRAMEBUFFER);
+    gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
+    if (status != GL_FRAMEBUFFER_COMPLETE)
+        throw GlError("HemicubeRenderer: atlas framebuffer " + std::to_string(width) + "x" + std::to_string(height) +
+                      " incomplete (status " + std::to_string(status) + ")");
+
+    itemProgram_ = compileProgram(context, "hemicube item buffer", kVertexShader, kItemFragmentShader);
+    radianceProgram_ = compileProgram(context, "hemicube radiance buffer", kVertexShader, kRadianceFragmentShader);
+    auto locate = [&](const GlObject& program) {
+        Uniforms u;
+        u.eye = gl.GetUniformLocation(program.id(), "eyeRelOrigin");
+        u.faceRows = gl.GetUniformLocation(program.id(), "faceRows");
+        u.yTransform = gl.GetUniformLocation(program.id(), "yTransform");
+        u.nearM = gl.GetUniformLocation(program.id(), "nearM");
+        u.radiance = gl.GetUniformLocation(program.id(), "elementRadiance");
+        return u;
+    };
+    itemUniforms_ = locate(itemProgram_);
+    radianceUniforms_ = locate(radianceProgram_);
+    gl.UseProgram(radianceProgram_.id());
+    gl.Uniform1i(radianceUniforms_.radiance, 0);
+    gl.UseProgram(0);
+    gl.check(("HemicubeRenderer: creating the R=" + std::to_string(resolution) + " atlas").c_str());
+
+    ids_.resize(weights_.pixelCount());
+    depths_.resize(weights_.pixelCount());
+    radiance_.resize(weights_.pixelCount());
+    accumulator_.assign(scene.elementCount(), 0.0);
+    chunkAboveHorizon_.resize(scene.chunks().size());
+    drawFirsts_.reserve(scene.chunks().size());
+    drawCounts_.reserve(scene.chunks().size());
+}
+
+void HemicubeRenderer::draw(const HemicubeFrame& frame, Target target, glm::vec3 skyRadiance) {
+    const GlFunctions& gl = scene_->context().gl();
+    const bool items = target == Target::Items;
+    const Uniforms& uniforms = items ? itemUniforms_ : radianceUniforms_;
+
+    glm::dvec3 tangent, bitangent;
+    frame.tangentFrame(tangent, bitangent);
+    const glm::dvec3 normal = glm::normalize(frame.normal);
+    const glm::vec3 eye(frame.position + eyeOffsetM_ * normal - scene_->origin());
+
+    gl.BindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
+    const GLenum drawBuffers[2] = {items ? GLenum(GL_COLOR_ATTACHMENT0) : GLenum(GL_NONE),
+                                   items ? GLenum(GL_NONE) : GLenum(GL_COLOR_ATTACHMENT1)};
+    gl.DrawBuffers(2, drawBuffers);
+    gl.ClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+    gl.Disable(GL_CULL_FACE);
+    gl.Disable(GL_SCISSOR_TEST);  // scissor would restrict the clears
+    gl.Enable(GL_DEPTH_TEST);
+    gl.DepthFunc(GL_GREATER);
+    gl.DepthMask(GL_TRUE);
+    const GLfloat farDepth = 0.0f;
+    gl.ClearBufferfv(GL_DEPTH, 0, &farDepth);
+    if (items) {
+        const GLuint sky[4] = {kSkyId, 0, 0, 0};
+        gl.ClearBufferuiv(GL_COLOR, 0, sky);
+    } else {
+        const GLfloat sky[4] = {skyRadiance.x, skyRadiance.y, skyRadiance.z, 0.0f};
+        gl.ClearBufferfv(GL_COLOR, 1, sky);
+    }
+    gl.Enable(GL_SCISSOR_TEST);  // guard-band rasterisers may otherwise spill into a neighbouring face
+
+    gl.UseProgram(items ? itemProgram_.id() : radianceProgram_.id());
+    gl.Uniform3f(uniforms.eye, eye.x, eye.y, eye.z);
+    gl.Uniform1f(uniforms.nearM, static_cast<float>(nearPlaneM_));
+    gl.BindVertexArray(scene_->vertexArray());
+    if (!items) {
+        gl.ActiveTexture(GL_TEXTURE0);
+        gl.BindTexture(GL_TEXTURE_BUFFER, scene_->radianceTexture());
+    }
+
+    // Chunk culling. The slack covers float rounding of positions relative to the scene centre.
+    const auto chunks = scene_->chunks();
+    const float slack = static_cast<float>(1e-6 * scene_->sceneDiagonalM());
+    const glm::vec3 horizon(normal);
+    for (std::size_t c = 0; c < chunks.size(); ++c)
+        chunkAboveHorizon_[c] = maxAlongPlane(horizon, chunks[c], eye) >= -slack;
+
+    const glm::dvec3 forwards[HemicubeWeights::kFaceCount] = {normal, tangent, -tangent, bitangent, -bitangent};
+    lastChunksDrawn_ = 0;
+    for (int face = 0; face < HemicubeWeights::kFaceCount; ++face) {
+        const glm::dvec3 f = forwards[face];
+        const glm::dvec3 u = face == 0 ? bitangent : normal;
+        const glm::dvec3 r = glm::cross(f, u);  // makes counter-clockwise-from-the-front triangles front-facing
+        const GLfloat rows[9] = {float(r.x), float(r.y), float(r.z), float(u.x), float(u.y),
+                                 float(u.z), float(f.x), float(f.y), float(f.z)};
+        gl.UniformMatrix3fv(uniforms.faceRows, 1, GL_TRUE, rows);
+        gl.Uniform2f(uniforms.yTransform, face == 0 ? 1.0f : 2.0f, face == 0 ? 0.0f : 1.0f);
+        const PixelRect vp = weights_.faceViewport(face);
+        gl.Viewport(vp.x, vp.y, vp.width, vp.height);
+        gl.Scissor(vp.x, vp.y, vp.width, vp.height);
+
+        // Frustum side planes through the eye (inside where plane·(p − eye) ≥ 0); the near plane is left to
+        // the clipper. Side faces keep only their upper half: the bottom plane is the horizon.
+        const glm::vec3 planes[4] = {glm::vec3(f - r), glm::vec3(f + r), glm::vec3(f - u),
+                                     face == 0 ? glm::vec3(f + u) : glm::vec3(u)};
+        drawFirsts_.clear();
+        drawCounts_.clear();
+        for (std::size_t c = 0; c < chunks.size(); ++c) {
+            if (!chunkAboveHorizon_[c]) continue;
+            bool visible = true;
+            for (const glm::vec3& plane : planes) visible = visible && maxAlongPlane(plane, chunks[c], eye) >= -slack;
+            if (!visible) continue;
+            ++lastChunksDrawn_;
+            if (!drawFirsts_.empty() && drawFirsts_.back() + drawCounts_.back() == chunks[c].firstVertex)
+                drawCounts_.back() += chunks[c].vertexCount;  // merge runs: fewer draws for llvmpipe to set up
+            else {
+                drawFirsts_.push_back(chunks[c].firstVertex);
+                drawCounts_.push_back(chunks[c].vertexCount);
+            }
+        }
+        if (!drawFirsts_.empty())
+            gl.MultiDrawArrays(GL_TRIANGLES, drawFirsts_.data(), drawCounts_.data(),
+                               static_cast<GLsizei>(drawFirsts_.size()));
+    }
+    gl.BindVertexArray(0);
+    gl.UseProgram(0);
+}
+
+void HemicubeRenderer::renderFormFactors(const HemicubeFrame& frame, FormFactorList& out) {
+    auto bound = scene_->context().bind();
+    const GlFunctions& gl = scene_->context().gl();
+    draw(frame, Target::Items, glm::vec3(0.0f));
+    const int width = weights_.atlasWidth(), height = weights_.atlasHeight();
+    gl.ReadBuffer(GL_COLOR_ATTACHMENT0);
+    gl.ReadPixels(0, 0, width, height, GL_RED_INTEGER, GL_UNSIGNED_INT, ids_.data());
+    gl.ReadPixels(0, 0, width, height, GL_DEPTH_COMPONENT, GL_FLOAT, depths_.data());
+    gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
+    gl.check("HemicubeRenderer::renderFormFactors");
+
+    out.clear();
+    const std::span<const double> weights = weights_.weights();
+    const std::span<const float> rayLength = weights_.rayLengthPerDepth();
+    const std::uint32_t elementCount = static_cast<std::uint32_t>(accumulator_.size());
+    double sky = 0.0, backface = 0.0;
+    float nearest = 0.0f;  // max of depth / ray length = near / hit distance
+    for (std::size_t i = 0; i < ids_.size(); ++i) {
+        const std::uint32_t id = ids_[i];
+        const double w = weights[i];
+        if (id < elementCount) {
+            if (accumulator_[id] == 0.0) out.elements.push_back(id);  // weights are > 0: zero means untouched
+            accumulator_[id] += w;
+        } else if (id == kSkyId) {
+            sky += w;
+            continue;
+        } else {
+            backface += w;
+        }
+        nearest = std::max(nearest, depths_[i] / rayLength[i]);
+    }
+    out.formFactors.resize(out.elements.size());
+    for (std::size_t k = 0; k < out.elements.size(); ++k) {
+        out.formFactors[k] = accumulator_[out.elements[k]];
+        accumulator_[out.elements[k]] = 0.0;
+    }
+    out.skyFraction = sky;
+    out.backfaceFraction = backface;
+    if (nearest > 0.0f) out.minDepthM = nearPlaneM_ / static_cast<double>(nearest);
+}
+
+void HemicubeRenderer::readRadiance() {
+    const GlFunctions& gl = scene_->context().gl();
+    gl.ReadBuffer(GL_COLOR_ATTACHMENT1);
+    gl.ReadPixels(0, 0, weights_.atlasWidth(), weights_.atlasHeight(), GL_RGBA, GL_FLOAT, radiance_.data());
+    gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
+    gl.check("HemicubeRenderer: radiance readback");
+}
+
+RadianceGather HemicubeRenderer::gatherRadiance(const HemicubeFrame& frame, glm::vec3 skyRadiance) {
+    {
+        auto bound = scene_->context().bind();
+        draw(frame, Target::Radiance, skyRadiance);
+        readRadiance();
+    }
+    const std::span<const double> weights = weights_.weights();
+    RadianceGather result;
+    for (std::size_t i = 0; i < radiance_.size(); ++i) {
+        const glm::vec4& p = radiance_[i];
+        const double w = weights[i];
+        result.irradianceOverPi += w * glm::dvec3(p.x, p.y, p.z);
+        if (p.w == 0.0f) result.skyFraction += w;
+        else if (p.w == 2.0f) result.backfaceFraction += w;
+    }
+    return result;
+}
+
+void HemicubeRenderer::renderWeightedRadiance(const HemicubeFrame& frame, glm::vec3 skyRadiance,
+                                              WeightedRadianceImage& out) {
+    {
+        auto bound = scene_->context().bind();
+        draw(frame, Target::Radiance, skyRadiance);
+        readRadiance();
+    }
+    const std::span<const double> weights = weights_.weights();
+    out.width = weights_.atlasWidth();
+    out.height = weights_.atlasHeight();
+    out.pixels.resize(radiance_.size());
+    for (std::size_t i = 0; i < radiance_.size(); ++i)
+        out.pixels[i] = weights[i] * glm::dvec3(radiance_[i].x, radiance_[i].y, radiance_[i].z);
+}
+
+}  // namespace hemibake

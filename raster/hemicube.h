@@ -1,0 +1,125 @@
+#pragma once
+// One hemicube, two read-outs: the item buffer (which element each pixel sees → sparse form factors, for
+// shooting) and the radiance buffer (what each pixel sees → E/π, for gathering).
+//
+// All five faces render into one 3R×R atlas (layout in hemicube_weights.h) with per-face viewports, so one
+// clear and one readback serve the whole hemicube. Visibility uses reversed-Z (depth = near/distance, cleared
+// to 0, GL_GREATER, infinite far plane): float depth then has the same relative precision at every distance,
+// which is what lets the near plane be tiny relative to the scene without z-fighting far away.
+//
+// Back faces are drawn, not culled: a back-facing fragment is opaque, black and tagged kBackfaceId. It hides
+// what lies behind it and contributes nothing ("the back of a single-sided surface sees nothing"); the weight
+// it covers is reported so callers can detect sample points inside geometry.
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "raster/hemicube_reduction.h"
+#include "raster/hemicube_weights.h"
+#include "raster/scene_buffers.h"
+
+namespace hemibake {
+
+// Where a hemicube sits: world position, unit normal (the front face's direction), and a rotation about the
+// normal. Rotating every hemicube by a different angle turns the pixel lattice's structured aliasing into
+// unbiased noise (GROUND_TRUTH.md §3.3-ii: +11 % coherent errors without it).
+struct HemicubeFrame {
+    glm::dvec3 position{0.0};
+    glm::dvec3 normal{0.0, 0.0, 1.0};
+    double rotationRadians = 0.0;
+
+    // Rotation angle drawn reproducibly from `seed` (e.g. hash of element index and sweep number).
+    static HemicubeFrame randomlyRotated(const glm::dvec3& position, const glm::dvec3& normal, std::uint64_t seed);
+    // Orthonormal tangent, bitangent with tangent × bitangent = normal, rotated by rotationRadians.
+    void tangentFrame(glm::dvec3& tangent, glm::dvec3& bitangent) const;
+};
+
+// Sparse row of form factors seen from one hemicube: F(dA → element) per visible element.
+struct FormFactorList {
+    std::vector<std::uint32_t> elements;
+    std::vector<double> formFactors;
+    double skyFraction = 0.0;       // weight of pixels that saw nothing
+    double backfaceFraction = 0.0;  // weight of pixels that saw the back of a surface
+    double minDepthM = std::numeric_limits<double>::infinity();  // nearest hit (front or back), from the eye
+
+    std::size_t size() const { return elements.size(); }
+    double sum() const;  // Σ F = 1 − skyFraction − backfaceFraction (up to rounding)
+    void clear();
+};
+
+struct RadianceGather {
+    glm::dvec3 irradianceOverPi{0.0};  // E/π = Σ w·L, W·m⁻²·sr⁻¹
+    double skyFraction = 0.0;
+    double backfaceFraction = 0.0;
+};
+
+class HemicubeRenderer {
+public:
+    static constexpr std::uint32_t kSkyId = 0xFFFFFFFFu;
+    static constexpr std::uint32_t kBackfaceId = 0xFFFFFFFEu;
+    // The eye sits this far (× scene diagonal) above the surface along the normal: more than the float
+    // quantisation of positions relative to the scene centre (~6e-8 × diagonal), so a sample never sees its
+    // own surface or coplanar neighbours at the horizon, yet small enough that the slab it skips below the eye
+    // is negligible (a strip of height ε at distance d changes F by O(ε²/d²)).
+    static constexpr double kEyeOffsetPerDiagonal = 1e-5;
+    // Half the eye offset: reversed-Z keeps depth precision independent of the near plane, so it can be this
+    // close; anything nearer than it to the eye is clipped (the leak at concave corners shrinks with it).
+    static constexpr double kNearPlanePerEyeOffset = 0.5;
+
+    // `scene` (and its context) must outlive the renderer. Binds the context while creating GL objects.
+    HemicubeRenderer(const SceneBuffers& scene, int resolution);
+    HemicubeRenderer(const HemicubeRenderer&) = delete;
+    HemicubeRenderer& operator=(const HemicubeRenderer&) = delete;
+
+    // Item buffer → form factors. `out` is cleared first; no allocation once its capacity has warmed up.
+    void renderFormFactors(const HemicubeFrame& frame, FormFactorList& out);
+    // Radiance buffer (element radiance from SceneBuffers::setElementRadiance) → E/π, in double.
+    RadianceGather gatherRadiance(const HemicubeFrame& frame, glm::vec3 skyRadiance);
+    glm::dvec3 gatherIrradianceOverPi(const HemicubeFrame& frame, glm::vec3 skyRadiance) {
+        return gatherRadiance(frame, skyRadiance).irradianceOverPi;
+    }
+    // Per-pixel weight × radiance in the atlas layout (sum = gatherIrradianceOverPi), for reduction/inspection.
+    void renderWeightedRadiance(const HemicubeFrame& frame, glm::vec3 skyRadiance, WeightedRadianceImage& out);
+
+    int resolution() const { return weights_.resolution(); }
+    const HemicubeWeights& weights() const { return weights_; }
+    const SceneBuffers& scene() const { return *scene_; }
+    double eyeOffsetM() const { return eyeOffsetM_; }
+    double nearPlaneM() const { return nearPlaneM_; }
+    // Chunks drawn (summed over faces) by the last render: for benchmarks and culling tests.
+    std::size_t lastChunksDrawn() const { return lastChunksDrawn_; }
+
+private:
+    enum class Target { Items, Radiance };
+    void draw(const HemicubeFrame& frame, Target target, glm::vec3 skyRadiance);
+    void readRadiance();
+
+    const SceneBuffers* scene_;
+    HemicubeWeights weights_;
+    double eyeOffsetM_;
+    double nearPlaneM_;
+
+    GlObject framebuffer_;
+    GlObject itemBuffer_;
+    GlObject radianceBuffer_;
+    GlObject depthBuffer_;
+    GlObject itemProgram_;
+    GlObject radianceProgram_;
+    struct Uniforms {
+        GLint eye = -1, faceRows = -1, yTransform = -1, nearM = -1, radiance = -1;
+    } itemUniforms_, radianceUniforms_;
+
+    // Scratch, sized once.
+    std::vector<std::uint32_t> ids_;
+    std::vector<float> depths_;
+    std::vector<glm::vec4> radiance_;
+    std::vector<double> accumulator_;  // per element, zero between renders
+    std::vector<GLint> drawFirsts_;
+    std::vector<GLsizei> drawCounts_;
+    std::vector<std::uint8_t> chunkAboveHorizon_;
+    std::size_t lastChunksDrawn_ = 0;
+};
+
+}  // namespace hemibake

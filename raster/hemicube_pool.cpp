@@ -1,0 +1,37 @@
+#include "raster/hemicube_pool.h"
+
+#include <stdexcept>
+#include <string>
+
+namespace hemibake {
+
+HemicubePool::Worker::Worker(const PatchMesh& mesh, int resolution)
+    : context(), buffers(context, mesh), renderer(buffers, resolution) {}
+
+HemicubePool::HemicubePool(const PatchMesh& mesh, int resolution) : mesh_(&mesh), resolution_(resolution) {
+    // Reject a bad resolution here rather than on the first worker thread.
+    if (resolution < 2 || resolution % 2 != 0)
+        throw std::invalid_argument("HemicubePool: resolution must be even and >= 2, got " + std::to_string(resolution));
+}
+
+HemicubePool::~HemicubePool() = default;
+
+HemicubeRenderer& HemicubePool::local() {
+    std::unique_ptr<Worker>& worker = workers_.local();
+    if (!worker) worker = std::make_unique<Worker>(*mesh_, resolution_);
+    if (worker->radianceVersion != radianceVersion_) {
+        worker->buffers.setElementRadiance(radiance_);
+        worker->radianceVersion = radianceVersion_;
+    }
+    return worker->renderer;
+}
+
+void HemicubePool::setElementRadiance(std::span<const glm::vec3> radiance) {
+    if (radiance.size() != mesh_->elements.size())
+        throw GlError("HemicubePool::setElementRadiance: got " + std::to_string(radiance.size()) + " values for " +
+                      std::to_string(mesh_->elements.size()) + " elements");
+    radiance_.assign(radiance.begin(), radiance.end());
+    ++radianceVersion_;
+}
+
+}  // namespace hemibake

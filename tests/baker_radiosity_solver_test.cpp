@@ -1,0 +1,112 @@
+// The solver against closed-form answers (GROUND_TRUTH §2): furnaces, one emitting face, energy balance.
+#include <chrono>
+
+#include <gtest/gtest.h>
+
+#include "mesh/scene_builder.h"
+#include "support/solver_fixture.h"
+
+using namespace hemibake;
+using hemibake::test::meanIrradianceOverPi;
+using hemibake::test::solveScene;
+
+namespace {
+
+// A closed unit cube seen from inside; every face emits L_e (or only the top one) with reflectance rho.
+Scene furnace(float rho, float emitted, bool onlyTopEmits) {
+    SceneBuilder b("furnace");
+    const int wall = b.addMaterial(glm::vec3(rho), onlyTopEmits ? glm::vec3(0.0f) : glm::vec3(emitted));
+    const int lamp = b.addMaterial(glm::vec3(rho), glm::vec3(emitted));
+    auto c = [](int i) { return glm::dvec3(i & 1, (i >> 1) & 1, (i >> 2) & 1); };
+    // Inward-facing faces; +y (top) separately so it can emit alone.
+    b.addQuad(c(2), c(6), c(4), c(0), wall, "-x");
+    b.addQuad(c(1), c(5), c(7), c(3), wall, "+x");
+    b.addQuad(c(0), c(4), c(5), c(1), wall, "-y");
+    b.addQuad(c(2), c(3), c(7), c(6), lamp, "+y");
+    b.addQuad(c(0), c(1), c(3), c(2), wall, "-z");
+    b.addQuad(c(4), c(6), c(7), c(5), wall, "+z");
+    return b.build();
+}
+
+BakeSettings shootOnly(double patchSize, int resolution) {
+    BakeSettings s;
+    s.subdivision = {patchSize, patchSize / 2, patchSize};
+    s.solver.kind = SolverKind::Shoot;
+    s.solver.hemicubeResolution = resolution;
+    s.solver.ambientCorrection = false;
+    return s;
+}
+
+}  // namespace
+
+// §2.A: B = E/(1−ρ) and H = B everywhere, whatever the meshing, when weights sum to exactly 1.
+class Furnace : public ::testing::TestWithParam<std::pair<float, double>> {};
+
+TEST_P(Furnace, UniformEmissionGivesLeOverOneMinusRho) {
+    const auto [rho, tolerance] = GetParam();
+    const float le = 2.0f;
+    // §2.A holds for any meshing; 24 patches keep ρ = 0.99 (≈ 344 sweeps of shots, §2.D) quick.
+    BakeSettings s = shootOnly(1.0, 32);
+    const auto solved = solveScene(furnace(rho, le, false), s);
+    const glm::dvec3 mean = meanIrradianceOverPi(*solved);
+    const double expected = le / (1.0 - double(rho));
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(mean[c], expected, tolerance * expected) << "rho " << rho;
+    EXPECT_EQ(solved->report.stopReason, "converged");
+    EXPECT_LE(solved->report.unshotFraction, s.solver.epsilon);
+}
+
+INSTANTIATE_TEST_SUITE_P(GroundTruth2A, Furnace,
+                         ::testing::Values(std::make_pair(0.5f, 0.005), std::make_pair(0.9f, 0.005),
+                                           std::make_pair(0.99f, 0.02)));
+
+TEST(FurnaceExtreme, Rho0999ConvergesWithAmbientCorrection) {
+    BakeSettings s = shootOnly(1.0, 32);
+    s.solver.ambientCorrection = true;
+    s.solver.maxShots = 3000;  // ~3450 sweeps would be needed to reach 1e-3 (§2.D); the ambient term covers the rest
+    const auto solved = solveScene(furnace(0.999f, 1.0f, false), s);
+    const glm::dvec3 mean = meanIrradianceOverPi(*solved);
+    for (std::size_t e = 0; e < solved->mesh.elements.size(); ++e)
+        ASSERT_TRUE(std::isfinite(solved->solution.displayIrradiance(e).x)) << "element " << e;
+    EXPECT_NEAR(mean.x, 1000.0, 0.05 * 1000.0);
+    EXPECT_LT(solved->report.unshotFraction, 1.0);  // it made progress, it did not diverge
+}
+
+// §2.C: one emitting face; the area-mean radiosity is (1/6)·E/(1−ρ) exactly (energy balance).
+TEST(OneEmittingFace, AreaMeanRadiosity) {
+    for (float rho : {0.5f, 0.8f}) {
+        const double exitance = 1.0;
+        const auto solved = solveScene(furnace(rho, float(exitance / M_PI), true), shootOnly(0.5, 64));
+        double sumBA = 0.0, area = 0.0;
+        for (std::size_t e = 0; e < solved->mesh.elements.size(); ++e) {
+            sumBA += solved->solution.displayRadiosity(solved->mesh, e).x * solved->mesh.elements.areaM2[e];
+            area += solved->mesh.elements.areaM2[e];
+        }
+        const double expected = (1.0 / 6.0) * exitance / (1.0 - rho);
+        EXPECT_NEAR(sumBA / area, expected, 0.01 * expected) << "rho " << rho;
+    }
+}
+
+// Open scene: every watt emitted is absorbed, escapes, or is still unshot.
+TEST(EnergyBalance, OpenSceneConservesPower) {
+    SceneBuilder b("open");
+    const int grey = b.addMaterial(glm::vec3(0.6f, 0.4f, 0.2f));
+    const int lamp = b.addMaterial(glm::vec3(0.3f), glm::vec3(5.0f, 4.0f, 3.0f));
+    b.addQuad({-1, 0, -1}, {-1, 0, 1}, {1, 0, 1}, {1, 0, -1}, grey, "floor");
+    b.addBox({-0.3, 0.0, -0.3}, {0.2, 0.6, 0.1}, grey, false, "block");
+    b.addQuad({-0.2, 1.0, -0.2}, {0.2, 1.0, -0.2}, {0.2, 1.0, 0.2}, {-0.2, 1.0, 0.2}, lamp, "lamp");
+    PunctualLight point;
+    point.type = LightType::Point;
+    point.position = {0.5, 0.8, 0.5};
+    point.intensity = glm::vec3(2.0f);
+    b.addLight(point);
+    BakeSettings s = shootOnly(0.25, 64);
+    s.solver.epsilon = 1e-4;
+    const auto solved = solveScene(b.build(), s);
+    const SolveReport& r = solved->report;
+    const glm::dvec3 in = r.emitterPowerW + r.directPowerW;
+    const glm::dvec3 out = r.absorbedPowerW + r.escapedPowerW + r.backfacePowerW + r.unshotPowerW;
+    for (int c = 0; c < 3; ++c) {
+        EXPECT_GT(r.escapedPowerW[c], 0.1 * in[c]);
+        EXPECT_NEAR(out[c], in[c], 1e-3 * in[c]) << "channel " << c;
+    }
+}

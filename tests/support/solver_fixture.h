@@ -1,0 +1,41 @@
+#pragma once
+// Runs the full solver on a scene made in code: real OSMesa hemicubes, real Embree rays.
+#include <memory>
+
+#include "baker/embree_scene.h"
+#include "baker/radiosity_solver.h"
+#include "mesh/subdivision.h"
+#include "raster/hemicube_pool.h"
+
+namespace hemibake::test {
+
+struct SolvedScene {
+    Scene scene;
+    PatchMesh mesh;
+    RadiositySolution solution;
+    SolveReport report;
+};
+
+inline std::unique_ptr<SolvedScene> solveScene(Scene scene, const BakeSettings& settings) {
+    auto s = std::make_unique<SolvedScene>();
+    s->scene = std::move(scene);
+    s->mesh = subdivide(s->scene, settings.subdivision);
+    HemicubePool pool(s->mesh, settings.solver.hemicubeResolution);
+    EmbreeScene rays(s->scene);
+    s->report = solveRadiosity(s->scene, s->mesh, settings, pool, rays, s->solution);
+    return s;
+}
+
+// Area-weighted mean of the displayed E/π (texel value) over the elements of one instance, or all if -1.
+inline glm::dvec3 meanIrradianceOverPi(const SolvedScene& s, int instance = -1) {
+    glm::dvec3 sum(0.0);
+    double area = 0.0;
+    for (std::size_t e = 0; e < s.mesh.elements.size(); ++e) {
+        if (instance >= 0 && s.mesh.elements.instance[e] != std::uint32_t(instance)) continue;
+        sum += s.solution.displayIrradiance(e) * s.mesh.elements.areaM2[e];
+        area += s.mesh.elements.areaM2[e];
+    }
+    return sum / area / M_PI;
+}
+
+}  // namespace hemibake::test
