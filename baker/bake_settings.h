@@ -31,6 +31,14 @@ struct SolverSettings {
     std::uint64_t seed = 1;             // hemicube rotations and sampling
 };
 
+// Model only what the scene requires: after a first solve, elements whose radiosity differs from an edge
+// neighbour's by more than `threshold` (relative) are bisected down to elementSize / 2^levels, and the scene is
+// solved again. Smooth regions stay coarse; unlit ones never shoot.
+struct AdaptiveSettings {
+    int levels = 0;           // 0 = off
+    double threshold = 0.2;   // |B_a − B_b| > threshold × max(B_a, B_b) (+ a small floor relative to the mean)
+};
+
 struct LightingSettings {
     glm::vec3 skyRadiance{0.0f};        // uniform sky, W·m⁻²·sr⁻¹, seen where rays and hemicube pixels escape
     int skySamplesPerElement = 64;      // cosine-weighted visibility rays for direct sky light
@@ -42,6 +50,7 @@ struct BakeSettings {
     std::string preset = "medium";
     SubdivisionSettings subdivision;
     SolverSettings solver;
+    AdaptiveSettings adaptive;
     LightingSettings lighting;
 };
 

@@ -12,6 +12,10 @@ namespace hemibake {
 
 namespace {
 
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+// Shadow rays leave from the lifted point, so surfaces within rayEpsilonM() of it (concave corners) still shadow.
+constexpr EmbreeScene::RayEnds kLifted = EmbreeScene::RayEnds::Lifted;
+
 // Stateless hash (PCG output permutation over a mixed key): jitter must depend only on (seed, index) so that
 // results do not depend on thread scheduling.
 std::uint32_t hash(std::uint32_t a, std::uint32_t b) {
@@ -73,7 +77,7 @@ glm::dvec3 DirectLight::fromLight(const PunctualLight& light, const glm::dvec3& 
         if (cosTheta <= 0.0) return glm::dvec3(0.0);
         const double visible = settings_.sunAngularDiameterRad > 0.0f
                                    ? sunVisibility(origin, n, toSun, seed)
-                                   : (rays_.occludedRay(origin, toSun, std::numeric_limits<double>::infinity()) ? 0.0 : 1.0);
+                                   : (rays_.occludedRay(origin, toSun, kInfinity, kLifted) ? 0.0 : 1.0);
         return intensity * (cosTheta * visible / M_PI);
     }
 
@@ -96,7 +100,7 @@ glm::dvec3 DirectLight::fromLight(const PunctualLight& light, const glm::dvec3& 
         const double falloff = std::clamp(cd * scale - cosOuter * scale, 0.0, 1.0);
         attenuation *= falloff * falloff;
     }
-    if (attenuation <= 0.0 || rays_.occluded(origin, light.position)) return glm::dvec3(0.0);
+    if (attenuation <= 0.0 || rays_.occluded(origin, light.position, kLifted)) return glm::dvec3(0.0);
     return intensity * (cosTheta * attenuation / M_PI);
 }
 
@@ -121,7 +125,7 @@ double DirectLight::sunVisibility(const glm::dvec3& origin, const glm::dvec3& n,
             const double r = std::sqrt(r2);
             const glm::dvec3 dir = cosTheta * toSun + (r > 0.0 ? sinTheta / r : 0.0) * (d.x * t + d.y * b);
             // Parts of the disk below the horizon are hidden by the surface itself.
-            if (glm::dot(dir, n) > 0.0 && !rays_.occludedRay(origin, dir, std::numeric_limits<double>::infinity())) ++visible;
+            if (glm::dot(dir, n) > 0.0 && !rays_.occludedRay(origin, dir, kInfinity, kLifted)) ++visible;
         }
     return double(visible) / double(nx * ny);
 }

@@ -103,7 +103,7 @@ void EmbreeScene::checkDevice(const char* what) const {
     if (error != RTC_ERROR_NONE) throw std::runtime_error(std::string("Embree: ") + errorName(error) + " while " + what);
 }
 
-RTCRay EmbreeScene::makeRay(const glm::dvec3& origin, const glm::dvec3& unitDir, double tFarM) const {
+RTCRay EmbreeScene::makeRay(const glm::dvec3& origin, const glm::dvec3& unitDir, double tNearM, double tFarM) const {
     const glm::dvec3 o = origin - origin_;
     RTCRay ray{};
     ray.org_x = float(o.x);
@@ -112,33 +112,36 @@ RTCRay EmbreeScene::makeRay(const glm::dvec3& origin, const glm::dvec3& unitDir,
     ray.dir_x = float(unitDir.x);
     ray.dir_y = float(unitDir.y);
     ray.dir_z = float(unitDir.z);
-    ray.tnear = float(rayEpsilonM_);
+    ray.tnear = float(tNearM);
     ray.tfar = float(tFarM);
     ray.mask = std::numeric_limits<unsigned>::max();
     return ray;
 }
 
-bool EmbreeScene::occluded(const glm::dvec3& from, const glm::dvec3& to) const {
+bool EmbreeScene::occluded(const glm::dvec3& from, const glm::dvec3& to, RayEnds ends) const {
     const glm::dvec3 d = to - from;
     const double length = glm::length(d);
+    if (ends == RayEnds::Lifted) return length > 0.0 && occludedRay(from, d / length, length, ends);
     if (!(length > 2.0 * rayEpsilonM_)) return false;
-    return occludedRay(from, d / length, length - rayEpsilonM_);
+    return occludedRay(from, d / length, length - rayEpsilonM_, ends);
 }
 
-bool EmbreeScene::occludedRay(const glm::dvec3& origin, const glm::dvec3& dir, double tMaxM) const {
-    if (!(tMaxM > rayEpsilonM_)) return false;
-    RTCRay ray = makeRay(origin, unitDirection(dir), tMaxM);
+bool EmbreeScene::occludedRay(const glm::dvec3& origin, const glm::dvec3& dir, double tMaxM, RayEnds start) const {
+    const double tMin = start == RayEnds::Lifted ? 0.0 : rayEpsilonM_;
+    if (!(tMaxM > tMin)) return false;
+    RTCRay ray = makeRay(origin, unitDirection(dir), tMin, tMaxM);
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     rtcOccluded1(rtcScene_.get(), &context, &ray);
     return ray.tfar < 0.0f;  // Embree marks an occluded ray with tfar = -inf
 }
 
-std::optional<Hit> EmbreeScene::intersect(const glm::dvec3& origin, const glm::dvec3& dir, double tMaxM) const {
-    if (!(tMaxM > rayEpsilonM_)) return std::nullopt;
+std::optional<Hit> EmbreeScene::intersect(const glm::dvec3& origin, const glm::dvec3& dir, double tMaxM, RayEnds start) const {
+    const double tMin = start == RayEnds::Lifted ? 0.0 : rayEpsilonM_;
+    if (!(tMaxM > tMin)) return std::nullopt;
     const glm::dvec3 unitDir = unitDirection(dir);
     RTCRayHit rayHit{};
-    rayHit.ray = makeRay(origin, unitDir, tMaxM);
+    rayHit.ray = makeRay(origin, unitDir, tMin, tMaxM);
     rayHit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rayHit.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
     RTCIntersectContext context;

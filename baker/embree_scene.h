@@ -8,9 +8,16 @@
 //
 // Ray epsilon: Embree intersects in float, so a ray leaving a surface can re-hit it at a distance of a few float
 // ulps of the largest coordinate in the frame, i.e. proportional to the scene's size, not to the surface's.
-// rayEpsilonM() is that bound with a wide margin (kRayEpsilonRelative × scene diagonal, ≈ 60 ulps); callers offset
-// ray origins by it along the surface normal, and segments exclude it at both ends. Consequence: walls thinner
-// than ~2 × rayEpsilonM() (4 µm for a 1 m room, 0.4 mm for a 100 m level) can leak.
+// rayEpsilonM() is that bound with a wide margin (kRayEpsilonRelative × scene diagonal, ≈ 60 ulps). Two ways to
+// use it, chosen per query by RayEnds:
+//  - OnSurface (default): the ray's ends may lie on surfaces; rayEpsilonM() is skipped along the ray at each end.
+//    Simple, but a surface closer than rayEpsilonM() to an end is missed (light leaks into concave corners), and
+//    at a grazing angle θ the skipped piece is only rayEpsilonM()·sinθ away from the surface (float error wins).
+//  - Lifted: the caller moved the ends off their surfaces with offsetFromSurface() (along the normal, to the side
+//    the ray travels), which no float error can undo at any angle; nothing is skipped, so nearby surfaces count.
+//    The baker's own rays all use this.
+// Consequence either way: walls thinner than ~2 × rayEpsilonM() (15 µm for a 2 m room, 0.4 mm for a 100 m level)
+// can leak.
 //
 // Thread safety: every const query may run concurrently (Embree's rtcIntersect1/rtcOccluded1 are).
 #include <array>
@@ -46,21 +53,23 @@ public:
     EmbreeScene(EmbreeScene&&) noexcept;
     EmbreeScene& operator=(EmbreeScene&&) noexcept;
 
-    // Is anything strictly between the two points? rayEpsilonM() is excluded at both ends, so points lying on
-    // surfaces do not occlude themselves. Segments shorter than 2 × rayEpsilonM() are never occluded.
-    bool occluded(const glm::dvec3& from, const glm::dvec3& to) const;
-    // Is anything along the ray within distances (rayEpsilonM(), tMaxM)? `dir` is normalised here, so distances
-    // are metres whatever its length; a zero or non-finite `dir` throws std::invalid_argument.
-    bool occludedRay(const glm::dvec3& origin, const glm::dvec3& dir, double tMaxM) const;
-    // Nearest hit within distances (rayEpsilonM(), tMaxM) along the ray, `dir` as for occludedRay.
-    std::optional<Hit> intersect(const glm::dvec3& origin, const glm::dvec3& dir, double tMaxM) const;
+    enum class RayEnds { OnSurface, Lifted };  // see the header comment
+
+    // Is anything strictly between the two points? OnSurface: segments shorter than 2 × rayEpsilonM() never are.
+    bool occluded(const glm::dvec3& from, const glm::dvec3& to, RayEnds ends = RayEnds::OnSurface) const;
+    // Is anything along the ray closer than tMaxM? `dir` is normalised here, so distances are metres whatever its
+    // length; a zero or non-finite `dir` throws std::invalid_argument.
+    bool occludedRay(const glm::dvec3& origin, const glm::dvec3& dir, double tMaxM, RayEnds start = RayEnds::OnSurface) const;
+    // Nearest hit closer than tMaxM along the ray, `dir` as for occludedRay.
+    std::optional<Hit> intersect(const glm::dvec3& origin, const glm::dvec3& dir, double tMaxM,
+                                 RayEnds start = RayEnds::OnSurface) const;
 
     // Vertex indices (OpenMesh idx) of a face, in the order the barycentrics refer to.
     const std::array<std::uint32_t, 3>& triangle(std::uint32_t instance, std::uint32_t face) const;
     // Unit geometric normal of a face (zero for a degenerate face).
     const glm::dvec3& faceNormal(std::uint32_t instance, std::uint32_t face) const;
 
-    // A ray origin for leaving a surface point on the side `unitNormal` points to.
+    // A ray end lifted off surface point p to the side `unitNormal` points to (for RayEnds::Lifted).
     glm::dvec3 offsetFromSurface(const glm::dvec3& p, const glm::dvec3& unitNormal) const { return p + rayEpsilonM_ * unitNormal; }
 
     double rayEpsilonM() const { return rayEpsilonM_; }
@@ -79,7 +88,7 @@ private:
     };
 
     void checkDevice(const char* what) const;
-    RTCRay makeRay(const glm::dvec3& origin, const glm::dvec3& unitDir, double tFarM) const;
+    RTCRay makeRay(const glm::dvec3& origin, const glm::dvec3& unitDir, double tNearM, double tFarM) const;
 
     const Scene* scene_ = nullptr;
     std::unique_ptr<RTCDeviceTy, DeviceDeleter> device_;

@@ -5,7 +5,6 @@
 #include <limits>
 #include <stdexcept>
 
-#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 namespace hemibake {
@@ -13,6 +12,7 @@ namespace hemibake {
 namespace {
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
+constexpr EmbreeScene::RayEnds kLifted = EmbreeScene::RayEnds::Lifted;  // every path vertex lifts its rays
 // Samples per independent random stream; the unit of parallel work inside one estimate.
 constexpr std::uint32_t kChunkSamples = 256;
 
@@ -171,7 +171,8 @@ PathTracer::PathTracer(const Scene& scene, const EmbreeScene& rays, PathTracerSe
 
 Estimate PathTracer::irradianceOverPi(const glm::dvec3& p, const glm::vec3& n, std::uint32_t spp, std::uint64_t stream) const {
     // A white Lambertian receiver (ρ = 1) reflects (1/π)∫L cosθ dω = E/π: the texel value, emission excluded.
-    const Vertex start{p, glm::normalize(glm::dvec3(n)), glm::dvec3(1.0)};
+    const glm::dvec3 normal = glm::normalize(glm::dvec3(n));
+    const Vertex start{p, normal, glm::dvec3(1.0), rays_.offsetFromSurface(p, normal)};
     return estimateWith(spp, [&](std::uint32_t chunk, std::uint32_t count, RunningStats& stats) {
         Sampler sampler(settings_.seed, stream, chunk);
         for (std::uint32_t s = 0; s < count; ++s) stats.add(reflectedRadiance(start, sampler, stats.rays));
@@ -226,7 +227,7 @@ Image PathTracer::renderCamera(const Camera& camera, int width, int height, std:
 
 glm::dvec3 PathTracer::cameraSample(const glm::dvec3& origin, const glm::dvec3& dir, Sampler& sampler, std::uint64_t& rays) const {
     ++rays;
-    const std::optional<Hit> hit = rays_.intersect(origin, dir, kInfinity);
+    const std::optional<Hit> hit = rays_.intersect(origin, dir, kInfinity, kLifted);  // a camera is off every surface
     if (!hit) return glm::dvec3(settings_.skyRadiance);
     Vertex vertex;
     glm::dvec3 emitted(0.0);
@@ -248,7 +249,7 @@ glm::dvec3 PathTracer::reflectedRadiance(const Vertex& start, Sampler& sampler, 
         throughput *= x.reflectance;
         if (maxComponent(throughput) <= 0.0 || !(cosX > 0.0)) break;
         ++rays;
-        const std::optional<Hit> hit = rays_.intersect(rays_.offsetFromSurface(x.position, x.normal), dir, kInfinity);
+        const std::optional<Hit> hit = rays_.intersect(x.rayOrigin, dir, kInfinity, kLifted);
         if (!hit) {
             radiance += throughput * glm::dvec3(settings_.skyRadiance);
             break;
@@ -258,7 +259,7 @@ glm::dvec3 PathTracer::reflectedRadiance(const Vertex& start, Sampler& sampler, 
         if (!surfaceAt(*hit, y, emitted)) break;  // the back of a single-sided surface absorbs
         if (maxComponent(emitted) > 0.0) {
             const std::uint32_t emitter = std::uint32_t(firstEmitterOfInstance_[hit->instance]) + hit->face;
-            const double pdfLight = emitterPdfSolidAngle(emitter, x.position, y.position, y.normal);
+            const double pdfLight = emitterPdfSolidAngle(emitter, x.rayOrigin, y.position, y.normal);
             const double pdfBsdf = cosX / M_PI;
             radiance += throughput * emitted * (pdfBsdf * pdfBsdf / (pdfBsdf * pdfBsdf + pdfLight * pdfLight));
         }
@@ -283,7 +284,7 @@ glm::dvec3 PathTracer::emitterNee(const Vertex& x, Sampler& sampler, std::uint64
     const double su = std::sqrt(sampler.uniform()), v = sampler.uniform();
     const glm::dvec3 y = e.corner + (su * (1.0 - v)) * e.edge1 + (su * v) * e.edge2;
 
-    const glm::dvec3 toY = y - x.position;
+    const glm::dvec3 toY = y - x.rayOrigin;
     const double distance2 = glm::dot(toY, toY);
     if (!(distance2 > 0.0)) return glm::dvec3(0.0);
     const glm::dvec3 dir = toY / std::sqrt(distance2);
@@ -291,8 +292,10 @@ glm::dvec3 PathTracer::emitterNee(const Vertex& x, Sampler& sampler, std::uint64
     const double cosY = -glm::dot(dir, e.normal);
     if (cosX <= 0.0 || (cosY <= 0.0 && !e.doubleSided) || cosY == 0.0) return glm::dvec3(0.0);
     ++rays;
-    if (rays_.occluded(rays_.offsetFromSurface(x.position, x.normal), y)) return glm::dvec3(0.0);
-    const double pdfLight = emitterPdfSolidAngle(index, x.position, y, e.normal);
+    // Both ends lifted: a grazing segment would otherwise end inside the float error of the emitter's plane.
+    if (rays_.occluded(x.rayOrigin, rays_.offsetFromSurface(y, cosY > 0.0 ? e.normal : -e.normal), kLifted))
+        return glm::dvec3(0.0);
+    const double pdfLight = emitterPdfSolidAngle(index, x.rayOrigin, y, e.normal);
     const double pdfBsdf = cosX / M_PI;
     const double weight = pdfLight * pdfLight / (pdfLight * pdfLight + pdfBsdf * pdfBsdf);
     return e.radiance * (cosX / M_PI / pdfLight * weight);
@@ -310,7 +313,6 @@ double PathTracer::emitterPdfSolidAngle(std::uint32_t emitter, const glm::dvec3&
 
 glm::dvec3 PathTracer::punctualNee(const Vertex& x, Sampler& sampler, std::uint64_t& rays) const {
     glm::dvec3 irradiance(0.0);  // E in W·m⁻² per channel
-    const glm::dvec3 origin = rays_.offsetFromSurface(x.position, x.normal);
     for (const PunctualLight& light : scene_.lights) {
         if (light.type == LightType::Directional) {
             const glm::dvec3 toSun = -glm::normalize(glm::dvec3(light.direction));
@@ -329,7 +331,7 @@ glm::dvec3 PathTracer::punctualNee(const Vertex& x, Sampler& sampler, std::uint6
                 if (glm::dot(shadowDir, x.normal) <= 0.0) continue;
             }
             ++rays;
-            if (!rays_.occludedRay(origin, shadowDir, kInfinity)) irradiance += glm::dvec3(light.intensity) * cosTheta;
+            if (!rays_.occludedRay(x.rayOrigin, shadowDir, kInfinity, kLifted)) irradiance += glm::dvec3(light.intensity) * cosTheta;
             continue;
         }
         const glm::dvec3 toLight = light.position - x.position;
@@ -352,7 +354,7 @@ glm::dvec3 PathTracer::punctualNee(const Vertex& x, Sampler& sampler, std::uint6
         }
         if (falloff <= 0.0) continue;
         ++rays;
-        if (!rays_.occluded(origin, light.position)) irradiance += glm::dvec3(light.intensity) * (cosTheta * falloff / distance2);
+        if (!rays_.occluded(x.rayOrigin, light.position, kLifted)) irradiance += glm::dvec3(light.intensity) * (cosTheta * falloff / distance2);
     }
     return irradiance / M_PI;
 }
@@ -363,6 +365,7 @@ bool PathTracer::surfaceAt(const Hit& hit, Vertex& vertex, glm::dvec3& emittedRa
     if (!hit.frontFacing && !material.doubleSided) return false;
     vertex.position = hit.position;
     vertex.normal = hit.frontFacing ? hit.geometricNormal : -hit.geometricNormal;
+    vertex.rayOrigin = rays_.offsetFromSurface(vertex.position, vertex.normal);
     glm::vec2 uv(0.0f);
     if (material.reflectanceTexture >= 0) {
         const auto& v = rays_.triangle(hit.instance, hit.face);

@@ -10,5 +10,6 @@ using CommandRunner = std::function<int()>;
 
 // Registration functions, one per sub-command file.
 CommandRunner addInfoCommand(CLI::App& app);
+CommandRunner addBakeCommand(CLI::App& app);
 
 }  // namespace hemibake::cli

@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
         runners[app.get_subcommands({}).back()] = std::move(run);
     };
     add(hemibake::cli::addInfoCommand);
+    add(hemibake::cli::addBakeCommand);
 
     try {
         app.parse(argc, argv);

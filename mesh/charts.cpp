@@ -293,6 +293,7 @@ ChartSet computeCharts(const SurfaceMesh& mesh, const ChartSettings& s) {
         double boundary = 0.0;
     };
     std::vector<std::vector<std::int32_t>> grown;
+    std::size_t mergedCharts = 0;
 
     using Candidate = std::pair<double, std::int32_t>;
     std::priority_queue<Candidate, std::vector<Candidate>, std::greater<>> queue;
@@ -300,7 +301,7 @@ ChartSet computeCharts(const SurfaceMesh& mesh, const ChartSettings& s) {
     auto cost = [&](const Growing& chart, int chartId, int f) {
         if (g.area[std::size_t(f)] <= 0.0) return 0.0;
         const double d = glm::dot(g.normal[std::size_t(f)], chart.normal);
-        if (d < s.maxNormalDeviationCos) return kInf;
+        if (s.maxNormalDeviationCos > -1.0 && d < s.maxNormalDeviationCos) return kInf;  // ≤ −1: no limit
         double lIn = 0.0, lOut = 0.0;
         for (HalfedgeHandle h : faceHalfedges(mesh, f)) {
             const double l = edgeLength(mesh, h);
@@ -360,8 +361,76 @@ ChartSet computeCharts(const SurfaceMesh& mesh, const ChartSettings& s) {
         }
     }
 
+    // Merge small leftover charts into the neighbour they share most of their boundary with, when the merged
+    // chart's faces stay within mergeNormalCos of its mean normal and it is still a disk (xatlas merges
+    // similarly). Fewer tiny charts means fewer seams and less padding.
+    if (s.mergeSmallCharts && grown.size() > 1) {
+        std::vector<double> area(grown.size(), 0.0);
+        std::vector<glm::dvec3> sumN(grown.size(), glm::dvec3(0.0));
+        for (std::size_t c = 0; c < grown.size(); ++c)
+            for (int f : grown[c]) {
+                area[c] += g.area[std::size_t(f)];
+                sumN[c] += g.area[std::size_t(f)] * g.normal[std::size_t(f)];
+            }
+        std::vector<double> sortedArea(area);
+        std::nth_element(sortedArea.begin(), sortedArea.begin() + std::ptrdiff_t(sortedArea.size() / 2), sortedArea.end());
+        const double small = 0.5 * sortedArea[sortedArea.size() / 2];
+        std::vector<std::int32_t> order2(grown.size());
+        std::iota(order2.begin(), order2.end(), 0);
+        std::stable_sort(order2.begin(), order2.end(), [&](int a, int b) { return area[std::size_t(a)] < area[std::size_t(b)]; });
+        std::vector<std::pair<int, double>> shared;
+        for (int c : order2) {
+            auto& faces = grown[std::size_t(c)];
+            if (faces.empty() || area[std::size_t(c)] >= small) continue;
+            shared.clear();
+            double boundary = 0.0;
+            for (int f : faces)
+                for (HalfedgeHandle h : faceHalfedges(mesh, f)) {
+                    const int o = faceAcross(mesh, h);
+                    if (o >= 0 && faceChart[std::size_t(o)] == c) continue;
+                    const double l = edgeLength(mesh, h);
+                    boundary += l;
+                    if (o < 0 || isHard(f, h)) continue;
+                    const int n = faceChart[std::size_t(o)];
+                    auto it = std::find_if(shared.begin(), shared.end(), [&](const auto& p) { return p.first == n; });
+                    if (it == shared.end())
+                        shared.push_back({n, l});
+                    else
+                        it->second += l;
+                }
+            std::sort(shared.begin(), shared.end(), [](const auto& a, const auto& b) { return a.second > b.second; });
+            for (const auto& [n, length] : shared) {
+                if (length < 0.3 * boundary) break;
+                const glm::dvec3 mergedSum = sumN[std::size_t(c)] + sumN[std::size_t(n)];
+                const double len = glm::length(mergedSum);
+                if (!(len > 0.0)) continue;
+                const glm::dvec3 mean = mergedSum / len;
+                bool ok = true;
+                for (const auto* list : {&faces, &grown[std::size_t(n)]})
+                    for (int f : *list)
+                        if (g.area[std::size_t(f)] > 0.0 && glm::dot(g.normal[std::size_t(f)], mean) < s.mergeNormalCos) {
+                            ok = false;
+                            break;
+                        }
+                if (!ok) continue;
+                std::vector<std::int32_t> merged = grown[std::size_t(n)];
+                merged.insert(merged.end(), faces.begin(), faces.end());
+                if (!chartTopology(ws, merged).isDisk() && !facesArePlanar(g, merged, s.planarToleranceRad)) continue;
+                for (int f : faces) faceChart[std::size_t(f)] = n;
+                grown[std::size_t(n)] = std::move(merged);
+                faces.clear();
+                area[std::size_t(n)] += area[std::size_t(c)];
+                sumN[std::size_t(n)] = mergedSum;
+                ++mergedCharts;
+                break;
+            }
+        }
+        grown.erase(std::remove_if(grown.begin(), grown.end(), [](const auto& v) { return v.empty(); }), grown.end());
+    }
+
     // Finalize: planar flags, disk topology for curved charts.
     ChartSet out;
+    out.mergedCharts = mergedCharts;
     out.faceChart.assign(nF, -1);
     out.chartFaceStart.push_back(0);
     auto emit = [&](const std::vector<std::int32_t>& faces, bool planar, const glm::dvec3& n) {

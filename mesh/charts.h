@@ -8,6 +8,9 @@
 // rewards faces that close gaps). Hard edges never join charts: mesh boundaries, material boundaries and
 // creases sharper than `creaseAngleDegrees`.
 //
+// Small leftover charts are then merged into the neighbour they share most boundary with, if the merged chart
+// stays within mergeNormalCos of its mean normal and remains a disk.
+//
 // Every curved chart is a topological disk (one boundary loop, Euler characteristic 1); a grown chart with
 // holes or handles is split (through a hole where possible, else halved along its principal axis) until all
 // pieces are disks. Planar charts (all face normals within `planarToleranceRad` of the mean) are projected
@@ -37,6 +40,8 @@ struct ChartSettings {
     bool splitAtMaterials = true;
     bool allowPlanarHoles = true;
     bool weldVertices = true;  // unwrapScene: segment on weldCoincidentVertices(mesh) (see below)
+    bool mergeSmallCharts = true;  // charts under half the median area join a neighbour sharing ≥ 30% of
+    double mergeNormalCos = 0.85;  // their boundary if all merged normals stay within this of the mean
     int maxSplitDepth = 16;  // non-disk splitting recursion limit; beyond it the chart falls apart into faces
 };
 
@@ -50,6 +55,7 @@ struct ChartSet {
     std::vector<double> areaM2;                 // per chart
     std::size_t nonDiskSplits = 0;              // splits made to keep curved charts disks
     std::size_t planarWithHoles = 0;            // planar charts kept whole although not disks
+    std::size_t mergedCharts = 0;               // small charts merged into a neighbour
 
     std::size_t size() const { return planar.size(); }
     std::span<const std::int32_t> faces(std::size_t c) const {

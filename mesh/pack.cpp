@@ -4,12 +4,15 @@
 #include <limits>
 #include <map>
 #include <numeric>
-#include <climits>
-#include <cstdlib>
 
 namespace hemibake {
 
 namespace {
+
+// A horizontal run of texels [a, b) in one row.
+struct Run {
+    std::int32_t a, b;
+};
 
 // One orientation of a chart, rasterized. Coordinates are relative to the footprint's bounding box:
 // atlas T = scale·R(angle)·uv + shift + (X, Y) where (X, Y) is where the box's top-left texel lands.
@@ -18,10 +21,23 @@ struct Footprint {
     glm::dvec2 shift{0.0};
     int width = 0, height = 0;
     std::uint32_t texels = 0;
-    std::vector<std::int32_t> bottom;  // per column: first covered row (height if the column is empty)
-    std::vector<std::int32_t> top;     // per column: last covered row + 1 (0 if empty)
-    std::vector<std::int32_t> dilatedBottom;  // per column k ∈ [-pad, width+pad): lowest row of the dilated footprint
+    // Covered texels as runs per row: row r's runs are runs[rowStart[r] .. rowStart[r+1]).
+    std::vector<std::uint32_t> rowStart;
+    std::vector<Run> runs;
+    // The footprint dilated by the padding (square structuring element), rows −pad .. height+pad−1 stored
+    // from index 0; x relative to the box (may be negative).
+    std::vector<std::uint32_t> dilatedRowStart;
+    std::vector<Run> dilatedRuns;
+    std::vector<std::int32_t> dilatedMaxRun;  // per dilated row: longest run (a row of the canvas needs a gap this long)
+    std::int32_t dilatedMinRun = 0;           // the smallest of those over non-empty rows
 };
+
+bool sameShape(const Footprint& a, const Footprint& b) {
+    if (a.width != b.width || a.height != b.height || a.rowStart != b.rowStart || a.runs.size() != b.runs.size()) return false;
+    for (std::size_t k = 0; k < a.runs.size(); ++k)
+        if (a.runs[k].a != b.runs[k].a || a.runs[k].b != b.runs[k].b) return false;
+    return true;
+}
 
 struct Prepared {
     double scale = 0.0;
@@ -130,29 +146,299 @@ Footprint rasterize(const PackChartInput& chart, double angle, double scale, int
     fp.width = x1 - x0 + 1;
     fp.height = y1 - y0 + 1;
     fp.shift = -lo - glm::dvec2(x0, y0);
-    fp.bottom.assign(std::size_t(fp.width), fp.height);
-    fp.top.assign(std::size_t(fp.width), 0);
-    for (int j = y0; j <= y1; ++j)
-        for (int i = x0; i <= x1; ++i)
-            if (bits[std::size_t(j) * std::size_t(bw) + std::size_t(i)]) {
-                const std::size_t col = std::size_t(i - x0);
-                fp.bottom[col] = std::min(fp.bottom[col], j - y0);
-                fp.top[col] = std::max(fp.top[col], j - y0 + 1);
+    auto bit = [&](int i, int j) { return bits[std::size_t(j) * std::size_t(bw) + std::size_t(i)] != 0; };
+    auto appendRuns = [](std::vector<Run>& runs, const std::uint8_t* row, int n, int offset) {
+        for (int i = 0; i < n;) {
+            if (!row[i]) {
+                ++i;
+                continue;
             }
-    // Square dilation by pad: column k sees the bottoms of columns k-pad .. k+pad, lowered by pad.
-    fp.dilatedBottom.assign(std::size_t(fp.width + 2 * pad), std::numeric_limits<std::int32_t>::max());
-    for (int k = -pad; k < fp.width + pad; ++k) {
-        int m = std::numeric_limits<int>::max();
-        for (int cc2 = std::max(0, k - pad); cc2 <= std::min(fp.width - 1, k + pad); ++cc2)
-            if (fp.top[std::size_t(cc2)] > 0) m = std::min(m, fp.bottom[std::size_t(cc2)]);
-        fp.dilatedBottom[std::size_t(k + pad)] = m == std::numeric_limits<int>::max() ? m : m - pad;
+            int k = i;
+            while (k < n && row[k]) ++k;
+            runs.push_back({i + offset, k + offset});
+            i = k;
+        }
+    };
+    std::vector<std::uint8_t> row(std::size_t(fp.width + 2 * pad));
+    fp.rowStart.push_back(0);
+    for (int j = 0; j < fp.height; ++j) {
+        for (int i = 0; i < fp.width; ++i) row[std::size_t(i)] = bit(x0 + i, y0 + j) ? 1 : 0;
+        appendRuns(fp.runs, row.data(), fp.width, 0);
+        fp.rowStart.push_back(std::uint32_t(fp.runs.size()));
     }
+    // Square dilation, separable: rows first (horizontal), then columns.
+    const int dw = fp.width + 2 * pad, dh = fp.height + 2 * pad;
+    std::vector<std::uint8_t> horiz(std::size_t(dw) * std::size_t(fp.height), 0);
+    for (int j = 0; j < fp.height; ++j)
+        for (std::uint32_t r = fp.rowStart[std::size_t(j)]; r < fp.rowStart[std::size_t(j) + 1]; ++r)
+            for (int i = fp.runs[r].a; i < fp.runs[r].b + 2 * pad; ++i) horiz[std::size_t(j) * std::size_t(dw) + std::size_t(i)] = 1;
+    fp.dilatedRowStart.push_back(0);
+    for (int j = 0; j < dh; ++j) {  // dilated row j ↔ footprint row j − pad
+        std::fill(row.begin(), row.end(), 0);
+        for (int src = std::max(0, j - 2 * pad); src <= std::min(fp.height - 1, j); ++src)
+            for (int i = 0; i < dw; ++i) row[std::size_t(i)] |= horiz[std::size_t(src) * std::size_t(dw) + std::size_t(i)];
+        const std::size_t before = fp.dilatedRuns.size();
+        appendRuns(fp.dilatedRuns, row.data(), dw, -pad);
+        fp.dilatedRowStart.push_back(std::uint32_t(fp.dilatedRuns.size()));
+        int longest = 0;
+        for (std::size_t k = before; k < fp.dilatedRuns.size(); ++k) longest = std::max(longest, fp.dilatedRuns[k].b - fp.dilatedRuns[k].a);
+        fp.dilatedMaxRun.push_back(longest);
+    }
+    fp.dilatedMinRun = std::numeric_limits<std::int32_t>::max();
+    for (int longest : fp.dilatedMaxRun)
+        if (longest > 0) fp.dilatedMinRun = std::min(fp.dilatedMinRun, longest);
+    if (fp.dilatedMinRun == std::numeric_limits<std::int32_t>::max()) fp.dilatedMinRun = 1;
     return fp;
 }
 
 struct Placement {
     int orientation = 0;
     int x = 0, y = 0;  // top-left of the footprint box
+};
+
+// One square atlas being filled. Occupied texels are kept as sorted runs per row, so charts can drop into
+// holes and notches of others. A chart goes where the square holding everything placed so far grows least
+// (xatlas' metric), ties going to the smaller extent area, then the higher, then the left-most position; its
+// footprint dilated by the padding must miss every footprint already placed. Placements can be rolled back
+// (to try a whole group of charts).
+class Canvas {
+public:
+    Canvas(int size, int pad, int border)
+        : size_(size), pad_(pad), border_(border), occupied_(std::size_t(size)), bigGaps_(std::size_t(size)), internalGap_(std::size_t(size), 0),
+          lastEnd_(std::size_t(size), -pad), curW_(border), curH_(border) {}
+
+    int extent() const { return std::max(curW_, curH_) + border_; }
+
+    struct Mark {
+        std::size_t journal;
+        int curW, curH;
+    };
+    Mark mark() const { return {journal_.size(), curW_, curH_}; }
+    void rollback(const Mark& m) {
+        while (journal_.size() > m.journal) {
+            const auto [row, run] = journal_.back();
+            journal_.pop_back();
+            auto& occ = occupied_[std::size_t(row)];
+            auto it = std::find_if(occ.begin(), occ.end(), [&](const Run& r) { return r.a == run.a && r.b == run.b; });
+            if (it != occ.end()) occ.erase(it);
+            updateGap(row);
+        }
+        curW_ = m.curW;
+        curH_ = m.curH;
+    }
+
+    bool place(const Prepared& p, Placement& out) {
+        // Phase 1: a position inside the current square (no growth; all such positions score alike, the
+        // highest then left-most wins). Phase 2, only if there is none: positions that grow the square to the
+        // right or downwards, scored by the grown square, then its area.
+        int bestX = -1, bestY = 0, bestO = 0;
+        for (int o = 0; o < p.orientations; ++o) {
+            const Footprint& f = p.fp[o];
+            const int xhi = std::min(curW_, size_ - border_) - f.width, yhi = std::min(curH_, size_ - border_) - f.height;
+            const int ylimit = bestX >= 0 ? std::min(yhi, bestY - 1) : yhi;
+            if (xhi < border_) continue;
+            // Coarse test per row: its longest free gap (left of curW + pad) must hold the footprint's
+            // shortest dilated run. A window of rows containing a failing row q rules out every Y whose window
+            // contains q, so the scan jumps past it.
+            auto rowFails = [&](int row) {
+                if (row < 0 || row >= size_) return false;
+                return std::max(internalGap_[std::size_t(row)], curW_ + pad_ - lastEnd_[std::size_t(row)]) < f.dilatedMinRun;
+            };
+            for (int Y = border_; Y <= ylimit;) {
+                int fail = std::numeric_limits<int>::min();
+                for (int row = Y + f.height + pad_ - 1; row >= Y - pad_; --row)
+                    if (rowFails(row)) {
+                        fail = row;
+                        break;
+                    }
+                if (fail != std::numeric_limits<int>::min()) {
+                    Y = fail + pad_ + 1;
+                    continue;
+                }
+                const int X = leftmost(f, Y, border_, xhi, true);
+                if (X >= 0) {
+                    bestX = X;
+                    bestY = Y;
+                    bestO = o;
+                    break;
+                }
+                ++Y;
+            }
+        }
+        if (bestX < 0) {
+            int bestScore = std::numeric_limits<int>::max();
+            long long bestArea = 0;
+            auto consider = [&](int X, int Y, int o) {
+                const Footprint& f = p.fp[o];
+                const int w2 = std::max(curW_, X + f.width), h2 = std::max(curH_, Y + f.height);
+                const int score = std::max(w2, h2);
+                const long long area = (long long)w2 * h2;
+                if (bestX < 0 || score < bestScore || (score == bestScore && area < bestArea) ||
+                    (score == bestScore && area == bestArea && (Y < bestY || (Y == bestY && X < bestX)))) {
+                    bestScore = score;
+                    bestArea = area;
+                    bestX = X;
+                    bestY = Y;
+                    bestO = o;
+                }
+            };
+            for (int o = 0; o < p.orientations; ++o) {
+                const Footprint& f = p.fp[o];
+                const int xmax = size_ - border_ - f.width, ymax = size_ - border_ - f.height;
+                if (xmax < border_ || ymax < border_) continue;
+                // Right strip: the chart sticks out past curW.
+                const int rx0 = std::max(border_, curW_ - f.width + 1);
+                for (int Y = border_; Y <= ymax; ++Y) {
+                    if (bestX >= 0 && std::max(curH_, Y + f.height) > bestScore) break;
+                    const int xlim = bestX >= 0 ? std::min(xmax, bestScore - f.width) : xmax;
+                    if (xlim < rx0) break;
+                    const int X = leftmost(f, Y, rx0, xlim, false);
+                    if (X >= 0) consider(X, Y, o);
+                }
+                // Bottom strip: the chart sticks out past curH.
+                for (int Y = std::max(border_, curH_ - f.height + 1); Y <= ymax; ++Y) {
+                    if (bestX >= 0 && std::max(curH_, Y + f.height) > bestScore) break;
+                    const int xlim = bestX >= 0 ? std::min(xmax, bestScore - f.width) : xmax;
+                    if (xlim < border_) break;
+                    const int X = leftmost(f, Y, border_, xlim, false);
+                    if (X >= 0) {
+                        consider(X, Y, o);
+                        break;  // lower positions only grow the square further
+                    }
+                }
+            }
+        }
+        if (bestX < 0) return false;
+        const Footprint& f = p.fp[bestO];
+        for (int r = 0; r < f.height; ++r) {
+            const int row = bestY + r;
+            auto& occ = occupied_[std::size_t(row)];
+            for (std::uint32_t k = f.rowStart[std::size_t(r)]; k < f.rowStart[std::size_t(r) + 1]; ++k) {
+                const Run run{f.runs[k].a + bestX, f.runs[k].b + bestX};
+                occ.insert(std::lower_bound(occ.begin(), occ.end(), run, [](const Run& l, const Run& rr) { return l.a < rr.a; }), run);
+                journal_.push_back({row, run});
+            }
+            updateGap(row);
+        }
+        curW_ = std::max(curW_, bestX + f.width);
+        curH_ = std::max(curH_, bestY + f.height);
+        out = {bestO, bestX, bestY};
+        return true;
+    }
+
+    // Left-most X in [xlo, xhi] where the dilated footprint placed with its box at (X, Y) misses every occupied
+    // texel, or −1. `inside`: the footprint stays left of curW + pad, so rows whose free gaps there are all
+    // too short are rejected without looking at their runs.
+    int leftmost(const Footprint& f, int Y, int xlo, int xhi, bool inside) {
+        if (xhi < xlo) return -1;
+        if (inside) {
+            auto tooShort = [&](int r) {
+                const int row = Y + r;
+                if (row < 0 || row >= size_) return false;
+                const int gap = std::max(internalGap_[std::size_t(row)], curW_ + pad_ - lastEnd_[std::size_t(row)]);
+                return gap < f.dilatedMaxRun[std::size_t(r + pad_)];
+            };
+            if (quickRow_ >= -pad_ && quickRow_ < f.height + pad_ && tooShort(quickRow_)) return -1;
+            for (int r = -pad_; r < f.height + pad_; ++r)
+                if (tooShort(r)) {
+                    quickRow_ = r;
+                    return -1;
+                }
+        }
+        if (firstRow_ < -pad_ || firstRow_ >= f.height + pad_) firstRow_ = -pad_;
+        initFeasible(f, Y, firstRow_, xlo, xhi);
+        for (int r = -pad_; r < f.height + pad_ && !feasible_.empty(); ++r) {
+            if (r == firstRow_) continue;
+            restrict(f, Y, r);
+            if (feasible_.empty()) firstRow_ = r;
+        }
+        return feasible_.empty() ? -1 : feasible_.front().a;
+    }
+
+private:
+    // Longest free gap of a row before its last run (from −pad, the canvas edge counting as free) and the end
+    // of that run: cheap necessary tests for placements.
+    void updateGap(int row) {
+        int prev = -pad_, best = 0;
+        auto& big = bigGaps_[std::size_t(row)];
+        big.clear();
+        for (const Run& r : occupied_[std::size_t(row)]) {
+            best = std::max(best, r.a - prev);
+            if (r.a - prev >= kBigGap) big.push_back({prev, r.a});
+            prev = std::max(prev, r.b);
+        }
+        internalGap_[std::size_t(row)] = best;
+        lastEnd_[std::size_t(row)] = prev;
+    }
+
+    // Starts feasible_ as the X in [xlo, xhi] allowed by row r alone. A row with one dilated run at least
+    // kBigGap long only fits into the row's big gaps (or past its last run), which are few.
+    void initFeasible(const Footprint& f, int Y, int r, int xlo, int xhi) {
+        feasible_.assign(1, {xlo, xhi + 1});
+        const int row = Y + r;
+        if (row < 0 || row >= size_) return;
+        const std::uint32_t d0 = f.dilatedRowStart[std::size_t(r + pad_)], d1 = f.dilatedRowStart[std::size_t(r + pad_) + 1];
+        if (d1 - d0 != 1 || f.dilatedRuns[d0].b - f.dilatedRuns[d0].a < kBigGap) {
+            restrict(f, Y, r);
+            return;
+        }
+        const Run dr = f.dilatedRuns[d0];
+        feasible_.clear();
+        auto add = [&](int a, int b) {  // X ∈ [a, b] ∩ [xlo, xhi]
+            a = std::max(a, xlo);
+            b = std::min(b, xhi);
+            if (a <= b) feasible_.push_back({a, b + 1});
+        };
+        for (const Run& g : bigGaps_[std::size_t(row)])
+            if (g.b - g.a >= dr.b - dr.a) add(g.a - dr.a, g.b - dr.b);
+        add(lastEnd_[std::size_t(row)] - dr.a, xhi);
+    }
+
+    // Removes from feasible_ every X at which row r of the dilated footprint (placed at row Y) hits an
+    // occupied run: X is blocked by occupied [o0, o1) and chart run [a, b) when X+a < o1 and X+b > o0.
+    // Each candidate interval looks up only the runs that can block it.
+    void restrict(const Footprint& f, int Y, int r) {
+        const int row = Y + r;
+        if (row < 0 || row >= size_ || feasible_.empty()) return;
+        const auto& occ = occupied_[std::size_t(row)];
+        if (occ.empty()) return;
+        const std::uint32_t d0 = f.dilatedRowStart[std::size_t(r + pad_)], d1 = f.dilatedRowStart[std::size_t(r + pad_) + 1];
+        if (d0 == d1) return;
+        next_.clear();
+        for (const Run& fr : feasible_) {
+            blocked_.clear();
+            for (std::uint32_t d = d0; d < d1; ++d) {
+                const Run dr = f.dilatedRuns[d];
+                auto it = std::lower_bound(occ.begin(), occ.end(), fr.a + dr.a, [](const Run& l, int v) { return l.b <= v; });
+                for (; it != occ.end() && it->a - dr.b + 1 < fr.b; ++it) blocked_.push_back({it->a - dr.b + 1, it->b - dr.a});
+            }
+            if (blocked_.empty()) {
+                next_.push_back(fr);
+                continue;
+            }
+            if (d1 - d0 > 1) std::sort(blocked_.begin(), blocked_.end(), [](const Run& l, const Run& rr) { return l.a < rr.a; });
+            int a = fr.a;
+            for (std::size_t bj = 0; a < fr.b; ++bj) {
+                if (bj >= blocked_.size() || blocked_[bj].a >= fr.b) {
+                    next_.push_back({a, fr.b});
+                    break;
+                }
+                if (blocked_[bj].a > a) next_.push_back({a, blocked_[bj].a});
+                a = std::max(a, blocked_[bj].b);
+            }
+        }
+        feasible_.swap(next_);
+    }
+
+    int size_, pad_, border_;
+    std::vector<std::vector<Run>> occupied_;
+    std::vector<std::vector<Run>> bigGaps_;  // per row: free gaps of at least kBigGap before the last run
+    std::vector<std::int32_t> internalGap_, lastEnd_;
+    int curW_, curH_;
+    int firstRow_ = 0, quickRow_ = 0;  // rows that rejected the last candidates: tried first next time
+    static constexpr int kBigGap = 8;
+    std::vector<std::pair<int, Run>> journal_;
+    std::vector<Run> feasible_, next_, blocked_;
 };
 
 class Packer {
@@ -165,6 +451,9 @@ public:
     }
 
     int avail(int size) const { return size - 2 * border_; }
+    int pad() const { return pad_; }
+    int border() const { return border_; }
+    const Prepared& prepared(std::size_t i) const { return prepared_[i]; }
 
     // Rasterizes chart i at `scale`, shrinking it until it fits into a maxAtlasSize atlas.
     void prepare(std::size_t i, double scale) {
@@ -181,69 +470,19 @@ public:
         }
         p.orientations = 1;
         if (s_.allowRotation)
-            for (int o = 1; o < 4; ++o) p.fp[p.orientations++] = rasterize(charts_[i], angle + 0.5 * M_PI * o, p.scale, pad_);
+            for (int o = 1; o < 4; ++o) {
+                Footprint fp = rasterize(charts_[i], angle + 0.5 * M_PI * o, p.scale, pad_);
+                // Symmetric charts (rectangles, squares) repeat footprints: keep distinct ones only.
+                bool repeated = false;
+                for (int k = 0; k < p.orientations && !repeated; ++k) repeated = sameShape(p.fp[k], fp);
+                if (!repeated) p.fp[p.orientations++] = std::move(fp);
+            }
     }
 
+    // Texels a chart takes in a well-packed atlas: its footprint plus its share of the padding around it.
     double estimateArea(std::size_t i) const {
         const Footprint& f = prepared_[i].fp[0];
-        return double(f.width + pad_) * double(f.height + pad_);
-    }
-
-    // Packs `order` (already sorted) into one atlas of `size`; false if some chart does not fit.
-    bool pack(const std::vector<std::size_t>& order, int size, std::vector<Placement>& out) const {
-        std::vector<std::int32_t> sky(std::size_t(size), 0);
-        out.assign(order.size(), {});
-        const int lim = size - border_;
-        for (std::size_t n = 0; n < order.size(); ++n) {
-            const Prepared& p = prepared_[order[n]];
-            int bestScore = std::numeric_limits<int>::max(), bestX = -1, bestY = 0, bestO = 0;
-            for (int o = 0; o < p.orientations; ++o) {
-                const Footprint& f = p.fp[o];
-                if (f.width > lim - border_ || f.height > lim - border_) continue;
-                for (int X = border_; X + f.width <= lim; ++X) {
-                    int Y = border_;
-                    bool ok = true;
-                    const int kLo = std::max(-pad_, -X), kHi = std::min(f.width + pad_, size - X);
-                    for (int k = kLo; k < kHi; ++k) {
-                        const int db = f.dilatedBottom[std::size_t(k + pad_)];
-                        if (db == std::numeric_limits<std::int32_t>::max()) continue;
-                        Y = std::max(Y, sky[std::size_t(X + k)] - db);
-                        if (Y + f.height >= bestScore || Y + f.height > lim) {
-                            ok = false;
-                            break;
-                        }
-                    }
-                    if (!ok) continue;
-                    static const int H = getenv("PACKH") ? atoi(getenv("PACKH")) : 0;
-                    if (H == 1) {
-                        // waste-based
-                        long waste = 0;
-                        for (int k = kLo; k < kHi; ++k) {
-                            const int db = f.dilatedBottom[std::size_t(k + pad_)];
-                            if (db == std::numeric_limits<std::int32_t>::max()) continue;
-                            waste += (Y + db) - sky[std::size_t(X + k)];
-                        }
-                        const long sc = waste * 4 + long(Y + f.height) * 0;
-                        static thread_local long bestW; if (bestX < 0 || o == 0 && X == border_) bestW = LONG_MAX;
-                        if (sc >= bestW) continue;
-                        bestW = sc;
-                        bestX = X; bestY = Y; bestO = o; bestScore = std::numeric_limits<int>::max();
-                        continue;
-                    }
-                    bestScore = Y + f.height;
-                    bestX = X;
-                    bestY = Y;
-                    bestO = o;
-                }
-            }
-            if (bestX < 0) return false;
-            const Footprint& f = p.fp[bestO];
-            for (int c = 0; c < f.width; ++c)
-                if (f.top[std::size_t(c)] > 0)
-                    sky[std::size_t(bestX + c)] = std::max(sky[std::size_t(bestX + c)], bestY + f.top[std::size_t(c)]);
-            out[n] = {bestO, bestX, bestY};
-        }
-        return true;
+        return double(f.texels) + double(pad_) * double(f.width + f.height) + double(pad_) * double(pad_);
     }
 
     std::vector<std::size_t> sorted(std::vector<std::size_t> ids) const {
@@ -257,50 +496,28 @@ public:
         return ids;
     }
 
-    std::vector<int> candidateSizes(int lo, int hi) const {
-        std::vector<int> sizes;
+    // Atlas size for a used square of `extent` texels: rounded up to a multiple or a power of two.
+    int roundSize(int extent) const {
+        int size = std::max(extent, 1);
         if (s_.powerOfTwo) {
-            for (int s = 1; s <= hi; s *= 2)
-                if (s >= lo) sizes.push_back(s);
-            if (sizes.empty() || sizes.back() != hi) sizes.push_back(hi);
+            int p = 1;
+            while (p < size) p *= 2;
+            size = p;
         } else {
             const int m = std::max(1, s_.sizeMultiple);
-            for (int s = ((lo + m - 1) / m) * m; s < hi; s += m) sizes.push_back(s);
-            sizes.push_back(hi);
+            size = ((size + m - 1) / m) * m;
         }
-        return sizes;
+        return std::min(size, s_.maxAtlasSize);
     }
 
-    // Smallest size in [lower bound, max] that holds the charts (bisection), or 0 if even max fails.
-    int fitSize(const std::vector<std::size_t>& order, std::vector<Placement>& out) const {
-        double area = 0.0;
-        int maxDim = 1;
-        for (std::size_t i : order) {
-            area += estimateArea(i);
-            maxDim = std::max({maxDim, prepared_[i].fp[0].width, prepared_[i].fp[0].height});
-        }
-        const int lo = std::max(int(std::ceil(std::sqrt(area))) + 2 * border_, maxDim + 2 * border_);
-        const std::vector<int> sizes = candidateSizes(std::min(lo, s_.maxAtlasSize), s_.maxAtlasSize);
-        std::vector<Placement> trial;
-        if (!pack(order, sizes.back(), trial)) return 0;
-        std::size_t a = 0, b = sizes.size() - 1;  // sizes[b] fits
-        out = trial;
-        while (a < b) {
-            const std::size_t mid = (a + b) / 2;
-            if (pack(order, sizes[mid], trial)) {
-                b = mid;
-                out = trial;
-            } else {
-                a = mid + 1;
-            }
-        }
-        // out holds the placement for sizes[b] only if the last success was at b.
-        if (!pack(order, sizes[b], out)) return 0;
-        return sizes[b];
+    // Packs `order` into one maxAtlasSize canvas; returns the atlas size that holds it, or 0 if it does not fit.
+    int packAll(const std::vector<std::size_t>& order, std::vector<Placement>& out) const {
+        Canvas canvas(s_.maxAtlasSize, pad_, border_);
+        out.assign(order.size(), {});
+        for (std::size_t n = 0; n < order.size(); ++n)
+            if (!canvas.place(prepared_[order[n]], out[n])) return 0;
+        return roundSize(canvas.extent());
     }
-
-    const Prepared& prepared(std::size_t i) const { return prepared_[i]; }
-    int pad() const { return pad_; }
 
 private:
     std::span<const PackChartInput> charts_;
@@ -322,7 +539,7 @@ double PackResult::utilization() const {
 
 PackResult packCharts(std::span<const PackChartInput> charts, const PackSettings& settingsIn) {
     PackSettings settings = settingsIn;
-    settings.maxAtlasSize = std::clamp(settings.maxAtlasSize, 8, 16384);
+    settings.maxAtlasSize = std::clamp(settings.maxAtlasSize, 8, 8192);  // float UVs keep kCoverageShrinkTexels valid
     settings.paddingTexels = std::max(0, settings.paddingTexels);
     settings.borderTexels = std::clamp(settings.borderTexels, 0, settings.maxAtlasSize / 4);
     PackResult result;
@@ -352,23 +569,30 @@ PackResult packCharts(std::span<const PackChartInput> charts, const PackSettings
         }
         result.atlasFootprintTexels.push_back(used);
     };
+    auto finish = [&] {
+        for (const auto& c : result.charts) result.scaledDownCharts += c.scaledDown ? 1 : 0;
+        if (result.scaledDownCharts)
+            result.warnings.push_back(std::to_string(result.scaledDownCharts) + " charts were scaled down to fit a " +
+                                      std::to_string(settings.maxAtlasSize) + " atlas");
+        return result;
+    };
 
+    // Everything in one atlas, all charts sorted largest first (unless their area alone exceeds it).
     std::vector<std::size_t> all(charts.size());
     std::iota(all.begin(), all.end(), 0);
-    {
+    double totalArea = 0.0;
+    for (std::size_t i : all) totalArea += packer.estimateArea(i);
+    const double capacity = double(packer.avail(settings.maxAtlasSize)) * double(packer.avail(settings.maxAtlasSize));
+    if (totalArea <= capacity) {
         const auto order = packer.sorted(all);
         std::vector<Placement> placement;
-        if (const int size = packer.fitSize(order, placement); size > 0) {
+        if (const int size = packer.packAll(order, placement); size > 0) {
             commit(order, placement, size);
-            for (const auto& c : result.charts) result.scaledDownCharts += c.scaledDown ? 1 : 0;
-            if (result.scaledDownCharts)
-                result.warnings.push_back(std::to_string(result.scaledDownCharts) +
-                                          " charts larger than the atlas were scaled down to fit");
-            return result;
+            return finish();
         }
     }
 
-    // Several atlases: gather groups, shrink groups that cannot fit one atlas, fill atlases group by group.
+    // Several atlases. Groups (instances) that cannot fit one atlas alone are scaled down first.
     std::map<std::int32_t, std::vector<std::size_t>> groupMap;
     for (std::size_t i = 0; i < charts.size(); ++i)
         groupMap[settings.keepGroupsTogether ? charts[i].group : std::int32_t(i)].push_back(i);
@@ -377,72 +601,84 @@ PackResult packCharts(std::span<const PackChartInput> charts, const PackSettings
         double area = 0.0;
     };
     std::vector<Group> groups;
-    const double capacity = double(packer.avail(settings.maxAtlasSize)) * double(packer.avail(settings.maxAtlasSize));
     for (auto& [id, ids] : groupMap) {
         Group g;
         g.charts = packer.sorted(ids);
         for (std::size_t i : g.charts) g.area += packer.estimateArea(i);
-        std::vector<Placement> placement;
-        double factor = g.area > 0.85 * capacity ? std::sqrt(0.85 * capacity / g.area) : 1.0;
-        for (int attempt = 0; attempt < 40; ++attempt) {
-            if (factor < 1.0) {
-                for (std::size_t i : g.charts) packer.prepare(i, packer.prepared(i).scale * factor);
-                g.charts = packer.sorted(g.charts);
-                g.area = 0.0;
-                for (std::size_t i : g.charts) g.area += packer.estimateArea(i);
+        if (g.area > 0.25 * capacity) {  // might not fit alone
+            std::vector<Placement> placement;
+            double factor = g.area > 0.8 * capacity ? std::sqrt(0.8 * capacity / g.area) : 1.0;
+            bool scaled = false;
+            for (int attempt = 0; attempt < 60; ++attempt) {
+                if (factor < 1.0) {
+                    for (std::size_t i : g.charts) packer.prepare(i, packer.prepared(i).scale * factor);
+                    g.charts = packer.sorted(g.charts);
+                    scaled = true;
+                }
+                if (packer.packAll(g.charts, placement) > 0) break;
+                factor = 0.95;
             }
-            if (packer.pack(g.charts, settings.maxAtlasSize, placement)) break;
-            factor = 0.9;
+            g.area = 0.0;
+            for (std::size_t i : g.charts) g.area += packer.estimateArea(i);
+            if (scaled)
+                result.warnings.push_back("chart group " + std::to_string(id) + " is larger than one " +
+                                          std::to_string(settings.maxAtlasSize) + " atlas; scaled down to fit");
         }
-        if (factor < 1.0)
-            result.warnings.push_back("chart group " + std::to_string(id) + " is larger than one " +
-                                      std::to_string(settings.maxAtlasSize) + " atlas; scaled down to fit");
         groups.push_back(std::move(g));
     }
     std::stable_sort(groups.begin(), groups.end(), [](const Group& a, const Group& b) { return a.area > b.area; });
 
+    // Fill atlases greedily: each group goes into the current atlas if all its charts fit (else it is rolled
+    // back and waits for the next atlas).
     std::vector<bool> done(groups.size(), false);
     std::size_t remaining = groups.size();
     while (remaining > 0) {
-        // Take groups (largest first) while their area fits a fill target, then drop the last ones until
-        // the set packs; try to add more groups afterwards.
-        std::vector<std::size_t> chosen;
-        double area = 0.0;
-        for (std::size_t g = 0; g < groups.size(); ++g) {
-            if (done[g]) continue;
-            if (chosen.empty() || area + groups[g].area <= 0.9 * capacity) {
-                chosen.push_back(g);
-                area += groups[g].area;
-            }
-        }
-        auto orderOf = [&](const std::vector<std::size_t>& gs) {
-            std::vector<std::size_t> ids;
-            for (std::size_t g : gs) ids.insert(ids.end(), groups[g].charts.begin(), groups[g].charts.end());
-            return packer.sorted(ids);
-        };
+        Canvas canvas(settings.maxAtlasSize, packer.pad(), packer.border());
+        std::vector<std::size_t> order;
         std::vector<Placement> placement;
-        std::vector<std::size_t> order = orderOf(chosen);
-        while (!packer.pack(order, settings.maxAtlasSize, placement)) {
-            chosen.pop_back();  // never empties: a lone group always packs (scaled above)
-            order = orderOf(chosen);
+        int failures = 0;  // after this many groups in a row do not fit, the atlas counts as full
+        for (std::size_t g = 0; g < groups.size() && failures < 16; ++g) {
+            if (done[g]) continue;
+            const auto mark = canvas.mark();
+            const std::size_t before = order.size();
+            bool ok = true;
+            for (std::size_t i : groups[g].charts) {
+                Placement pl;
+                if (!canvas.place(packer.prepared(i), pl)) {
+                    ok = false;
+                    break;
+                }
+                order.push_back(i);
+                placement.push_back(pl);
+            }
+            if (!ok) {
+                canvas.rollback(mark);
+                order.resize(before);
+                placement.resize(before);
+                ++failures;
+                continue;
+            }
+            failures = 0;
+            done[g] = true;
+            --remaining;
         }
-        for (std::size_t g : chosen) done[g] = true;
-        remaining -= chosen.size();
-        // Last atlas: shrink it.
-        int size = settings.maxAtlasSize;
+        if (order.empty()) {  // cannot happen: every group packs alone
+            result.warnings.push_back("packing failed: a chart group does not fit an empty atlas");
+            break;
+        }
+        int size = packer.roundSize(canvas.extent());
         if (remaining == 0) {
-            std::vector<Placement> smaller;
-            if (const int s = packer.fitSize(order, smaller); s > 0) {
-                size = s;
-                placement = std::move(smaller);
+            // The last atlas: repacking its charts sorted together may give a smaller square.
+            std::vector<Placement> repacked;
+            const auto sortedOrder = packer.sorted(order);
+            if (const int s = packer.packAll(sortedOrder, repacked); s > 0 && s < size) {
+                commit(sortedOrder, repacked, s);
+                break;
             }
         }
         commit(order, placement, size);
     }
-    for (const auto& c : result.charts) result.scaledDownCharts += c.scaledDown ? 1 : 0;
-    if (result.scaledDownCharts)
-        result.warnings.push_back(std::to_string(result.scaledDownCharts) + " charts were scaled down to fit an atlas");
-    return result;
+    return finish();
 }
 
 }  // namespace hemibake

@@ -70,7 +70,7 @@ inline constexpr double kCoverageShrinkTexels = 1e-3;
 
 struct PackSettings {
     double texelsPerUnit = 128.0;  // texels per UV unit (per metre for hemibake's charts)
-    int maxAtlasSize = 1024;       // texels; further atlases are opened when one is full
+    int maxAtlasSize = 1024;       // texels (at most 8192); further atlases are opened when one is full
     int paddingTexels = 2;         // free texels between the footprints of any two charts (≥ 0)
     int borderTexels = 1;          // free texels between footprints and the atlas edge
     bool allowRotation = true;     // minimal-area oriented bounding box, then 0° or 90°
@@ -96,7 +96,9 @@ struct PackedChart {
     bool scaledDown = false;
 
     glm::dvec2 toTexels(const glm::dvec2& uv) const {
-        const double c = std::cos(angleRad), s = std::sin(angleRad);
+        double c = std::cos(angleRad), s = std::sin(angleRad);
+        if (std::abs(c) < 1e-15) c = 0.0;  // exact quarter turns, as the packer rasterized them
+        if (std::abs(s) < 1e-15) s = 0.0;
         return scale * glm::dvec2(c * uv.x - s * uv.y, s * uv.x + c * uv.y) + offset;
     }
 };

@@ -239,8 +239,14 @@ bool solveLscm(const SurfaceMesh& mesh, ParamChart& chart) {
 std::size_t countBadTriangles(const SurfaceMesh& mesh, const ParamChart& chart, double minAreaRatio) {
     std::size_t bad = 0;
     for (std::size_t t = 0; t < chart.triangles.size(); ++t) {
-        const double auv = triangleAreaUv(chart, t);
-        if (!(auv > minAreaRatio * triangleArea3d(mesh, chart, t))) ++bad;
+        const auto& tri = chart.triangles[t];
+        const glm::dvec3 a = point(mesh, chart.vertices[std::size_t(tri[0])]);
+        const glm::dvec3 b = point(mesh, chart.vertices[std::size_t(tri[1])]);
+        const glm::dvec3 c = point(mesh, chart.vertices[std::size_t(tri[2])]);
+        const double a3 = 0.5 * glm::length(glm::cross(b - a, c - a));
+        const double longest2 = std::max({glm::dot(b - a, b - a), glm::dot(c - b, c - b), glm::dot(a - c, a - c)});
+        if (!(a3 > 0.5e-12 * longest2)) continue;  // zero-area input triangle: cannot map to anything but zero
+        if (!(triangleAreaUv(chart, t) > minAreaRatio * a3)) ++bad;
     }
     return bad;
 }

@@ -89,7 +89,8 @@ void projectPlanar(const SurfaceMesh& mesh, ParamChart& chart, const glm::dvec3&
 bool solveLscm(const SurfaceMesh& mesh, ParamChart& chart);
 // Uniform scale so that UV area = 3D area. False if the UV area is not positive.
 bool normalizeArea(const SurfaceMesh& mesh, ParamChart& chart);
-// Number of UV triangles with signed area ≤ minAreaRatio × their 3D area.
+// Number of UV triangles with signed area ≤ minAreaRatio × their 3D area (zero-area input triangles, as the
+// loader's degeneracy test defines them, are not counted).
 std::size_t countBadTriangles(const SurfaceMesh& mesh, const ParamChart& chart, double minAreaRatio);
 // True if two non-adjacent boundary edges of the chart cross in UV.
 bool boundaryOverlaps(const ParamChart& chart);

@@ -198,7 +198,7 @@ UvAtlas unwrapScene(const Scene& scene, const UnwrapSettings& settings) {
             const int m = std::max(1, settings.sizeMultiple);
             size = ((size + m - 1) / m) * m;
         }
-        size = std::clamp(size, 4, std::max(4, settings.maxAtlasSize));
+        size = std::clamp(size, 4, std::clamp(settings.maxAtlasSize, 4, 8192));
         ui.atlas = std::int32_t(out.atlases.size());
         out.atlases.push_back({size, 1, 0, 0, 0.0});
         ui.firstChart = std::uint32_t(out.charts.size());

@@ -2,6 +2,8 @@
 
 #include <GL/osmesa.h>
 
+#include <algorithm>
+
 namespace hemibake {
 
 namespace {
@@ -32,11 +34,19 @@ GlContext::GlContext() {
         gl_.GetIntegerv(GL_MINOR_VERSION, &minorVersion_);
         const auto* renderer = reinterpret_cast<const char*>(gl_.GetString(GL_RENDERER));
         rendererName_ = renderer != nullptr ? renderer : "unknown";
+        GLint extensionCount = 0;
+        gl_.GetIntegerv(GL_NUM_EXTENSIONS, &extensionCount);
+        for (GLint i = 0; i < extensionCount; ++i)
+            extensions_.emplace_back(reinterpret_cast<const char*>(gl_.GetStringi(GL_EXTENSIONS, static_cast<GLuint>(i))));
         gl_.check("GlContext: querying the context");
     } catch (...) {
         OSMesaDestroyContext(context);
         throw;
     }
+}
+
+bool GlContext::hasExtension(const std::string& name) const {
+    return std::find(extensions_.begin(), extensions_.end(), name) != extensions_.end();
 }
 
 GlContext::~GlContext() {

@@ -9,6 +9,7 @@
 #include <array>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "raster/gl_functions.h"
 
@@ -44,6 +45,7 @@ public:
     int majorVersion() const { return majorVersion_; }
     int minorVersion() const { return minorVersion_; }
     const std::string& rendererName() const { return rendererName_; }
+    bool hasExtension(const std::string& name) const;
 
 private:
     void* context_ = nullptr;  // OSMesaContext (opaque here so users need not include osmesa.h)
@@ -52,6 +54,7 @@ private:
     GlFunctions gl_;
     int majorVersion_ = 0, minorVersion_ = 0;
     std::string rendererName_;
+    std::vector<std::string> extensions_;
 };
 
 }  // namespace hemibake

@@ -27,6 +27,7 @@ public:
 #define HEMIBAKE_GL_FUNCTIONS(X)                                             \
     X(GetError, PFNGLGETERRORPROC)                                           \
     X(GetString, PFNGLGETSTRINGPROC)                                         \
+    X(GetStringi, PFNGLGETSTRINGIPROC)                                       \
     X(GetIntegerv, PFNGLGETINTEGERVPROC)                                     \
     X(Enable, PFNGLENABLEPROC)                                               \
     X(Disable, PFNGLDISABLEPROC)                                             \
@@ -86,7 +87,6 @@ public:
     X(Uniform2f, PFNGLUNIFORM2FPROC)                                         \
     X(Uniform3f, PFNGLUNIFORM3FPROC)                                         \
     X(UniformMatrix3fv, PFNGLUNIFORMMATRIX3FVPROC)                           \
-    X(DrawArrays, GlDrawArraysProc)                                          \
     X(MultiDrawArrays, PFNGLMULTIDRAWARRAYSPROC)
 
 struct GlFunctions {

@@ -9,33 +9,36 @@ namespace hemibake {
 
 namespace {
 
+// The two sides of a double-sided surface are coincident elements with opposite winding, so their depths tie
+// (or differ by interpolation ulps, depending on vertex order). A back-facing triangle is pushed back by
+// 2^-20 of its depth (16 float ulps), so the side facing the eye wins regardless of draw order. Done in the
+// vertex stage from the element normal: writing gl_FragDepth instead disables llvmpipe's early depth test and
+// costs ~30 % of a 10k-triangle hemicube.
 const char* kVertexShader = R"(#version 330 core
 layout(location = 0) in vec3 positionRelOrigin;
 layout(location = 1) in uint elementId;
+layout(location = 2) in vec3 elementNormal;
 uniform vec3 eyeRelOrigin;
 uniform mat3 faceRows;   // rows: right, up, forward of this face
 uniform vec2 yTransform; // clip.y = up*x - forward*y: (1,0) full face, (2,1) upper half of a side face
 uniform float nearM;
 flat out uint element;
 void main() {
-    vec3 v = faceRows * (positionRelOrigin - eyeRelOrigin);
+    vec3 toEye = eyeRelOrigin - positionRelOrigin;
+    vec3 v = faceRows * -toEye;
+    bool backFacing = dot(elementNormal, toEye) < 0.0;
     // Reversed-Z with an infinite far plane: depth = near/forward, never clipped far away.
-    gl_Position = vec4(v.x, v.y * yTransform.x - v.z * yTransform.y, nearM, v.z);
+    gl_Position = vec4(v.x, v.y * yTransform.x - v.z * yTransform.y,
+                       backFacing ? nearM * (1.0 - 1.0 / 1048576.0) : nearM, v.z);
     element = elementId;
 }
 )";
 
-// The two sides of a double-sided surface are coincident elements with opposite winding, so their depths tie
-// (or differ by interpolation ulps, depending on vertex order). Pushing back faces back by 2^-20 relative
-// (16 float ulps) makes the front side win regardless of draw order.
-#define HEMIBAKE_BACKFACE_DEPTH "gl_FragDepth = gl_FrontFacing ? gl_FragCoord.z : gl_FragCoord.z * (1.0 - 1.0 / 1048576.0);\n"
-
 const char* kItemFragmentShader = R"(#version 330 core
 flat in uint element;
 layout(location = 0) out uint item;
-void main() {
-    item = gl_FrontFacing ? element : 0xFFFFFFFEu;
-)" HEMIBAKE_BACKFACE_DEPTH "}\n";
+void main() { item = gl_FrontFacing ? element : 0xFFFFFFFEu; }
+)";
 
 // Alpha tags the pixel class for the fractions: 0 sky (clear value), 1 front hit, 2 back face.
 const char* kRadianceFragmentShader = R"(#version 330 core
@@ -44,7 +47,8 @@ uniform samplerBuffer elementRadiance;
 layout(location = 1) out vec4 radiance;
 void main() {
     radiance = gl_FrontFacing ? vec4(texelFetch(elementRadiance, int(element)).rgb, 1.0) : vec4(0.0, 0.0, 0.0, 2.0);
-)" HEMIBAKE_BACKFACE_DEPTH "}\n";
+}
+)";
 
 std::uint64_t splitMix64(std::uint64_t x) {
     x += 0x9E3779B97F4A7C15ull;
@@ -98,6 +102,10 @@ HemicubeRenderer::HemicubeRenderer(const SceneBuffers& scene, int resolution)
     : scene_(&scene), weights_(resolution), eyeOffsetM_(kEyeOffsetPerDiagonal * scene.sceneDiagonalM()),
       nearPlaneM_(kNearPlanePerEyeOffset * eyeOffsetM_) {
     const GlContext& context = scene.context();
+    if (context.majorVersion() * 10 + context.minorVersion() < 45 && !context.hasExtension("GL_ARB_clip_control"))
+        throw GlError("HemicubeRenderer needs OpenGL 4.5 or GL_ARB_clip_control (reversed-Z); the context is " +
+                      context.rendererName() + " " + std::to_string(context.majorVersion()) + "." +
+                      std::to_string(context.minorVersion()));
     auto bound = context.bind();
     const GlFunctions& gl = context.gl();
     const int width = weights_.atlasWidth(), height = weights_.atlasHeight();
@@ -132,6 +140,7 @@ HemicubeRenderer::HemicubeRenderer(const SceneBuffers& scene, int resolution)
         u.yTransform = gl.GetUniformLocation(program.id(), "yTransform");
         u.nearM = gl.GetUniformLocation(program.id(), "nearM");
         u.radiance = gl.GetUniformLocation(program.id(), "elementRadiance");
+
         return u;
     };
     itemUniforms_ = locate(itemProgram_);
@@ -146,8 +155,8 @@ HemicubeRenderer::HemicubeRenderer(const SceneBuffers& scene, int resolution)
     radiance_.resize(weights_.pixelCount());
     accumulator_.assign(scene.elementCount(), 0.0);
     chunkAboveHorizon_.resize(scene.chunks().size());
-    drawFirsts_.reserve(scene.chunks().size());
-    drawCounts_.reserve(scene.chunks().size());
+    drawFirsts_.reserve(HemicubeWeights::kFaceCount * scene.chunks().size());
+    drawCounts_.reserve(HemicubeWeights::kFaceCount * scene.chunks().size());
 }
 
 void HemicubeRenderer::draw(const HemicubeFrame& frame, Target target, glm::vec3 skyRadiance) {
@@ -190,7 +199,8 @@ void HemicubeRenderer::draw(const HemicubeFrame& frame, Target target, glm::vec3
         gl.BindTexture(GL_TEXTURE_BUFFER, scene_->radianceTexture());
     }
 
-    // Chunk culling. The slack covers float rounding of positions relative to the scene centre.
+    // Per face: the frame, and the chunks that pass CPU culling as the draws of one multi-draw. The slack covers
+    // float rounding of positions relative to the scene centre.
     const auto chunks = scene_->chunks();
     const float slack = static_cast<float>(1e-6 * scene_->sceneDiagonalM());
     const glm::vec3 horizon(normal);
@@ -198,41 +208,48 @@ void HemicubeRenderer::draw(const HemicubeFrame& frame, Target target, glm::vec3
         chunkAboveHorizon_[c] = maxAlongPlane(horizon, chunks[c], eye) >= -slack;
 
     const glm::dvec3 forwards[HemicubeWeights::kFaceCount] = {normal, tangent, -tangent, bitangent, -bitangent};
+    struct Face {
+        GLfloat rows[9];
+        std::size_t firstDraw, drawCount;
+    } faces[HemicubeWeights::kFaceCount];
+    drawFirsts_.clear();
+    drawCounts_.clear();
     lastChunksDrawn_ = 0;
     for (int face = 0; face < HemicubeWeights::kFaceCount; ++face) {
         const glm::dvec3 f = forwards[face];
         const glm::dvec3 u = face == 0 ? bitangent : normal;
         const glm::dvec3 r = glm::cross(f, u);  // makes counter-clockwise-from-the-front triangles front-facing
-        const GLfloat rows[9] = {float(r.x), float(r.y), float(r.z), float(u.x), float(u.y),
-                                 float(u.z), float(f.x), float(f.y), float(f.z)};
-        gl.UniformMatrix3fv(uniforms.faceRows, 1, GL_TRUE, rows);
-        gl.Uniform2f(uniforms.yTransform, face == 0 ? 1.0f : 2.0f, face == 0 ? 0.0f : 1.0f);
-        const PixelRect vp = weights_.faceViewport(face);
-        gl.Viewport(vp.x, vp.y, vp.width, vp.height);
-        gl.Scissor(vp.x, vp.y, vp.width, vp.height);
-
+        faces[face] = Face{{float(r.x), float(r.y), float(r.z), float(u.x), float(u.y), float(u.z), float(f.x),
+                            float(f.y), float(f.z)},
+                           drawFirsts_.size(), 0};
         // Frustum side planes through the eye (inside where plane·(p − eye) ≥ 0); the near plane is left to
         // the clipper. Side faces keep only their upper half: the bottom plane is the horizon.
         const glm::vec3 planes[4] = {glm::vec3(f - r), glm::vec3(f + r), glm::vec3(f - u),
                                      face == 0 ? glm::vec3(f + u) : glm::vec3(u)};
-        drawFirsts_.clear();
-        drawCounts_.clear();
         for (std::size_t c = 0; c < chunks.size(); ++c) {
             if (!chunkAboveHorizon_[c]) continue;
             bool visible = true;
             for (const glm::vec3& plane : planes) visible = visible && maxAlongPlane(plane, chunks[c], eye) >= -slack;
             if (!visible) continue;
             ++lastChunksDrawn_;
-            if (!drawFirsts_.empty() && drawFirsts_.back() + drawCounts_.back() == chunks[c].firstVertex)
+            if (drawFirsts_.size() > faces[face].firstDraw && drawFirsts_.back() + drawCounts_.back() == chunks[c].firstVertex)
                 drawCounts_.back() += chunks[c].vertexCount;  // merge runs: fewer draws for llvmpipe to set up
             else {
                 drawFirsts_.push_back(chunks[c].firstVertex);
                 drawCounts_.push_back(chunks[c].vertexCount);
             }
         }
-        if (!drawFirsts_.empty())
-            gl.MultiDrawArrays(GL_TRIANGLES, drawFirsts_.data(), drawCounts_.data(),
-                               static_cast<GLsizei>(drawFirsts_.size()));
+        faces[face].drawCount = drawFirsts_.size() - faces[face].firstDraw;
+    }
+    for (int face = 0; face < HemicubeWeights::kFaceCount; ++face) {
+        if (faces[face].drawCount == 0) continue;
+        gl.UniformMatrix3fv(uniforms.faceRows, 1, GL_TRUE, faces[face].rows);
+        gl.Uniform2f(uniforms.yTransform, face == 0 ? 1.0f : 2.0f, face == 0 ? 0.0f : 1.0f);
+        const PixelRect vp = weights_.faceViewport(face);
+        gl.Viewport(vp.x, vp.y, vp.width, vp.height);
+        gl.Scissor(vp.x, vp.y, vp.width, vp.height);
+        gl.MultiDrawArrays(GL_TRIANGLES, &drawFirsts_[faces[face].firstDraw], &drawCounts_[faces[face].firstDraw],
+                           static_cast<GLsizei>(faces[face].drawCount));
     }
     gl.BindVertexArray(0);
     gl.UseProgram(0);

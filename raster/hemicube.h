@@ -116,7 +116,7 @@ private:
     std::vector<float> depths_;
     std::vector<glm::vec4> radiance_;
     std::vector<double> accumulator_;  // per element, zero between renders
-    std::vector<GLint> drawFirsts_;
+    std::vector<GLint> drawFirsts_;  // all five faces' multi-draw ranges, face by face
     std::vector<GLsizei> drawCounts_;
     std::vector<std::uint8_t> chunkAboveHorizon_;
     std::size_t lastChunksDrawn_ = 0;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <cmath>
 #include <cstddef>
 #include <numeric>
 #include <string>
@@ -10,24 +11,34 @@ namespace hemibake {
 
 namespace {
 
-struct Vertex {
-    float position[3];  // relative to the mesh origin
-    std::uint32_t element;
-};
-static_assert(sizeof(Vertex) == 16);
-
-// 10 bits per axis interleaved: neighbours on the curve are neighbours in space, so consecutive runs of
-// triangles make tight chunk bounds.
-std::uint32_t mortonCode(const glm::dvec3& unit) {
-    auto spread = [](std::uint32_t v) {
-        v = (v | (v << 16)) & 0x030000FFu;
-        v = (v | (v << 8)) & 0x0300F00Fu;
-        v = (v | (v << 4)) & 0x030C30C3u;
-        v = (v | (v << 2)) & 0x09249249u;
-        return v;
+// Signed 10-bit components: enough to tell which side of its plane the eye is on, except within ~0.1° of
+// edge-on, where the triangle covers no pixel anyway.
+std::uint32_t packNormal(const glm::vec3& n) {
+    auto component = [](float v) {
+        return static_cast<std::uint32_t>(static_cast<std::int32_t>(std::lround(std::clamp(v, -1.0f, 1.0f) * 511.0f))) & 0x3FFu;
     };
-    auto quantise = [](double t) { return static_cast<std::uint32_t>(std::clamp(t, 0.0, 1.0) * 1023.0); };
-    return spread(quantise(unit.x)) | (spread(quantise(unit.y)) << 1) | (spread(quantise(unit.z)) << 2);
+    return component(n.x) | (component(n.y) << 10) | (component(n.z) << 20);
+}
+
+// Median splits along the longest axis of the centroid bounds until a run fits in one chunk: leaves come out
+// in depth-first order, so chunks are spatially tight (good culling) and neighbouring chunks are usually
+// visible together (their vertex runs merge into one range of the multi-draw).
+void splitIntoChunks(std::vector<std::uint32_t>& order, std::size_t first, std::size_t last,
+                     const std::vector<glm::dvec3>& centroids, std::size_t maxPerChunk) {
+    if (last - first <= maxPerChunk) return;
+    glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+    for (std::size_t k = first; k < last; ++k) {
+        lo = glm::min(lo, centroids[order[k]]);
+        hi = glm::max(hi, centroids[order[k]]);
+    }
+    const glm::dvec3 extent = hi - lo;
+    const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
+    // Split on a multiple of the chunk size so that every leaf but the last is full.
+    const std::size_t half = first + ((last - first) / maxPerChunk + 1) / 2 * maxPerChunk;
+    std::nth_element(order.begin() + first, order.begin() + half, order.begin() + last,
+                     [&](std::uint32_t a, std::uint32_t b) { return centroids[a][axis] < centroids[b][axis]; });
+    splitIntoChunks(order, first, half, centroids, maxPerChunk);
+    splitIntoChunks(order, half, last, centroids, maxPerChunk);
 }
 
 }  // namespace
@@ -40,22 +51,21 @@ SceneBuffers::SceneBuffers(const GlContext& context, const PatchMesh& mesh, std:
     if (!(sceneDiagonalM_ > 0.0)) throw GlError("SceneBuffers: PatchMesh::sceneDiagonalM must be positive");
     if (trianglesPerChunk == 0) trianglesPerChunk = kDefaultTrianglesPerChunk;
 
-    glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
-    for (const glm::dvec3& v : elements.vertices) {
-        lo = glm::min(lo, v);
-        hi = glm::max(hi, v);
-    }
-    const glm::dvec3 extent = glm::max(hi - lo, glm::dvec3(1e-30));
-    std::vector<std::uint32_t> codes(elementCount_);
+    std::vector<glm::dvec3> centroids(elementCount_);
     for (std::size_t e = 0; e < elementCount_; ++e) {
         const auto& t = elements.triangles[e];
-        const glm::dvec3 c = (elements.vertices[t[0]] + elements.vertices[t[1]] + elements.vertices[t[2]]) / 3.0;
-        codes[e] = mortonCode((c - lo) / extent);
+        centroids[e] = (elements.vertices[t[0]] + elements.vertices[t[1]] + elements.vertices[t[2]]) / 3.0;
     }
     std::vector<std::uint32_t> order(elementCount_);
     std::iota(order.begin(), order.end(), 0u);
-    std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return codes[a] < codes[b]; });
+    splitIntoChunks(order, 0, elementCount_, centroids, trianglesPerChunk);
 
+    struct Vertex {
+        glm::vec3 position;  // relative to the mesh origin
+        std::uint32_t element;
+        std::uint32_t normal;  // the element's normal, GL_INT_2_10_10_10_REV
+    };
+    static_assert(sizeof(Vertex) == 20);
     std::vector<Vertex> vertices;
     vertices.reserve(3 * elementCount_);
     for (std::size_t first = 0; first < elementCount_; first += trianglesPerChunk) {
@@ -64,11 +74,12 @@ SceneBuffers::SceneBuffers(const GlContext& context, const PatchMesh& mesh, std:
                     static_cast<GLint>(vertices.size()), static_cast<GLsizei>(3 * (last - first))};
         for (std::size_t k = first; k < last; ++k) {
             const std::uint32_t e = order[k];
+            const std::uint32_t normal = packNormal(elements.normal[e]);
             for (std::uint32_t vi : elements.triangles[e]) {
                 const glm::vec3 p(elements.vertices[vi] - origin_);
                 chunk.boundsMin = glm::min(chunk.boundsMin, p);
                 chunk.boundsMax = glm::max(chunk.boundsMax, p);
-                vertices.push_back(Vertex{{p.x, p.y, p.z}, e});
+                vertices.push_back(Vertex{p, e, normal});
             }
         }
         chunks_.push_back(chunk);
@@ -86,6 +97,8 @@ SceneBuffers::SceneBuffers(const GlContext& context, const PatchMesh& mesh, std:
     gl.VertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(Vertex), reinterpret_cast<const void*>(offsetof(Vertex, position)));
     gl.EnableVertexAttribArray(1);
     gl.VertexAttribIPointer(1, 1, GL_UNSIGNED_INT, sizeof(Vertex), reinterpret_cast<const void*>(offsetof(Vertex, element)));
+    gl.EnableVertexAttribArray(2);
+    gl.VertexAttribPointer(2, 4, GL_INT_2_10_10_10_REV, GL_TRUE, sizeof(Vertex), reinterpret_cast<const void*>(offsetof(Vertex, normal)));
     gl.BindVertexArray(0);
 
     radianceBuffer_ = GlObject(context, GlObjectKind::Buffer);

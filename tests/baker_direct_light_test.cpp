@@ -72,6 +72,25 @@ TEST(DirectLight, BlockerCastsAnExactShadow) {
     expectRelative(direct.irradianceOverPiAt(lit, {0, 1, 0}, 0), glm::dvec3(intensity) * (2.0 / d) / (kPi * d * d), 1e-6, "lit");
 }
 
+TEST(DirectLight, ShadowHoldsAtAPointTouchingTheBlocker) {
+    SceneBuilder b;
+    const int grey = b.addMaterial(glm::vec3(0.5f));
+    addFloor(b, grey, 10.0);
+    b.addQuad({0, 0, -1}, {0, 0, 1}, {0, 0.5, 1}, {0, 0.5, -1}, grey, "low wall");  // x = 0, 0.5 m high
+    const glm::vec3 intensity(2.0f);
+    b.addLight(pointLight({-1, 1, 0}, intensity));
+    const Scene scene = b.build();
+    const EmbreeScene rays(scene);
+    const DirectLight direct(scene, rays, {});
+    // 10 µm from the wall's foot: far closer than rayEpsilonM(), and still in its shadow.
+    ASSERT_GT(rays.rayEpsilonM(), 1e-5);
+    EXPECT_EQ(direct.irradianceOverPiAt({1e-5, 0, 0}, {0, 1, 0}, 0), glm::dvec3(0.0));
+    EXPECT_EQ(direct.irradianceOverPiAt({0.5, 0, 0.3}, {0, 1, 0}, 0), glm::dvec3(0.0));
+    const glm::dvec3 lit(5, 0, 0);  // its ray to the light clears the wall at y = 5/6
+    const double d = glm::length(glm::dvec3(-1, 1, 0) - lit);
+    expectRelative(direct.irradianceOverPiAt(lit, {0, 1, 0}, 0), glm::dvec3(intensity) * (1.0 / d) / (kPi * d * d), 1e-6, "lit");
+}
+
 TEST(DirectLight, SpotConeFallsOffBetweenInnerAndOuterAngles) {
     SceneBuilder b;
     addFloor(b, b.addMaterial(glm::vec3(0.5f)), 10.0);

@@ -83,6 +83,26 @@ TEST(EmbreeScene, MillimetreWallOccludesAndEndpointsDoNotSelfOcclude) {
     EXPECT_FALSE(rays.occluded(onFront, {4.0, 1.0, -1.0}));
 }
 
+TEST(EmbreeScene, LiftedEndsSeeSurfacesCloserThanTheEpsilon) {
+    const Scene scene = testScene(glm::dvec3(0.0));
+    const EmbreeScene rays(scene);
+    // 5 µm in front of the wall's front face (z = -0.999), well inside rayEpsilonM().
+    const glm::dvec3 p(4.0, 1.0, -0.999 + 5e-6);
+    ASSERT_GT(rays.rayEpsilonM(), 5e-6);
+    const auto hit = rays.intersect(p, {0, 0, -1}, kInf, EmbreeScene::RayEnds::Lifted);
+    ASSERT_TRUE(hit);
+    EXPECT_NEAR(hit->distanceM, 5e-6, 1e-6);
+    EXPECT_TRUE(hit->frontFacing);
+    EXPECT_NEAR(hit->position.z, -0.999, 1e-9);
+    // The skipped default start passes the front face and stops at the back face, 1 mm further.
+    const auto skipped = rays.intersect(p, {0, 0, -1}, kInf);
+    ASSERT_TRUE(skipped);
+    EXPECT_FALSE(skipped->frontFacing);
+    EXPECT_TRUE(rays.occluded(p, {4.0, 1.0, -0.999 - 5e-6}, EmbreeScene::RayEnds::Lifted));
+    // Lifted ends exclude nothing, so a lifted point is never hidden by the surface it was lifted from.
+    EXPECT_FALSE(rays.occluded(rays.offsetFromSurface({4.0, 1.0, -0.999}, {0, 0, 1}), {4.9, 1.9, 0.5}, EmbreeScene::RayEnds::Lifted));
+}
+
 TEST(EmbreeScene, SceneFarFromOriginGivesTheSameHits) {
     const glm::dvec3 offset(1e5, -1e5, 1e5);
     const Scene nearScene = testScene(glm::dvec3(0.0));

@@ -65,7 +65,9 @@ TEST(PathTracer, FurnaceIncidentRadianceIsEmissionOverOneMinusReflectance) {
         const double rho = textured ? double(0.999f * (0.8f / 0.999f)) : double(0.8f);
         const glm::dvec3 expected = glm::dvec3(emitted) / (1.0 - rho);  // B = E/(1-ρ) everywhere ⇒ H/π = L_e/(1-ρ)
         const std::vector<SurfacePoint> points = {
-            {{0.5, 0.0, 1.5}, {0, 1, 0}}, {{0.2, 2.0, 2.7}, {0, -1, 0}}, {{0.0, 1.0, 0.5}, {1, 0, 0}}, {{0.9, 1.9, 3.0}, {0, 0, -1}}};
+            {{0.5, 0.0, 1.5}, {0, 1, 0}}, {{0.2, 2.0, 2.7}, {0, -1, 0}}, {{0.0, 1.0, 0.5}, {1, 0, 0}}, {{0.9, 1.9, 3.0}, {0, 0, -1}},
+            // 10 µm from two walls, closer than the ray epsilon (15 µm here): no light may leak past them.
+            {{0.99999, 1.99999, 3.0}, {0, 0, -1}}};
         const std::vector<Estimate> estimates = tracer.irradianceOverPi(points, 4096);
         for (std::size_t i = 0; i < points.size(); ++i) {
             expectWithinSigmas(estimates[i], expected, glm::dvec3(0.0), 3.0, "furnace point " + std::to_string(i));

@@ -1,0 +1,54 @@
+#include "baker/presets.h"
+
+#include <stdexcept>
+
+namespace hemibake {
+
+namespace {
+struct PresetTable {
+    const char* name;
+    double patchPerDiagonal;    // patch size = diagonal × this
+    double elementPerPatch;     // element size = patch size × this
+    int hemicubeResolution;
+    double epsilon;
+    int gatherSweeps;
+    int adaptiveLevels;
+    const char* summary;
+};
+
+constexpr PresetTable kPresets[] = {
+    {"draft", 1.0 / 8, 1.0 / 2, 64, 1e-2, 0, 0, "coarse patches, R=64 hemicubes, 1% unshot bound, no final gather"},
+    {"medium", 1.0 / 16, 1.0 / 2, 128, 1e-3, 1, 1, "patches ~diagonal/16, R=128, 0.1% unshot bound, one gather sweep, one adaptive level"},
+    {"high", 1.0 / 32, 1.0 / 2, 256, 1e-3, 1, 2, "patches ~diagonal/32, R=256, 0.1% unshot bound, one gather sweep, two adaptive levels"},
+    {"ultra", 1.0 / 48, 1.0 / 2, 256, 1e-4, 2, 2, "patches ~diagonal/48, R=256, 0.01% unshot bound, two gather sweeps, two adaptive levels"},
+};
+}  // namespace
+
+const std::vector<PresetDescription>& presetDescriptions() {
+    static const std::vector<PresetDescription> list = [] {
+        std::vector<PresetDescription> v;
+        for (const PresetTable& p : kPresets) v.push_back({p.name, p.summary});
+        return v;
+    }();
+    return list;
+}
+
+BakeSettings presetSettings(const std::string& name, double sceneDiagonalM) {
+    for (const PresetTable& p : kPresets) {
+        if (name != p.name) continue;
+        BakeSettings s;
+        s.preset = p.name;
+        const double diagonal = sceneDiagonalM > 0.0 ? sceneDiagonalM : 1.0;
+        s.subdivision.patchSizeM = diagonal * p.patchPerDiagonal;
+        s.subdivision.elementSizeM = s.subdivision.patchSizeM * p.elementPerPatch;
+        s.solver.hemicubeResolution = p.hemicubeResolution;
+        s.solver.epsilon = p.epsilon;
+        s.solver.gatherSweeps = p.gatherSweeps;
+        s.solver.kind = p.gatherSweeps > 0 ? SolverKind::Hybrid : SolverKind::Shoot;
+        s.adaptive.levels = p.adaptiveLevels;
+        return s;
+    }
+    throw std::invalid_argument("unknown preset '" + name + "' (draft, medium, high or ultra)");
+}
+
+}  // namespace hemibake

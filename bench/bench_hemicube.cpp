@@ -1,0 +1,197 @@
+// Hemicubes per second on generated scenes (random boxes in a room, ~1k / 10k / 100k triangles), for the
+// item buffer (shooting) at R = 32…256 and the radiance gather at R = 64, with 1 and 2 worker threads.
+//
+//   build/bench/bench_hemicube --benchmark_counters_tabular=true
+//
+// LP_NUM_THREADS defaults to 0 here (see main); run with LP_NUM_THREADS=2 to compare.
+// Each iteration renders a batch of hemicubes at random points on random elements (facing along the
+// element normal, randomly rotated), spread over the workers with tbb::parallel_for; contexts and scene
+// uploads are warmed up before timing, as a bake would amortise them.
+#include <benchmark/benchmark.h>
+
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <array>
+#include <cstdlib>
+#include <atomic>
+#include <map>
+#include <memory>
+#include <random>
+
+#include "raster/hemicube_pool.h"
+
+namespace hemibake {
+namespace {
+
+class Generator {
+public:
+    explicit Generator(std::uint32_t seed) : rng_(seed) {}
+
+    // Quad p0 + s·u + t·v split into n×n cells (2 triangles each, vertices shared as subdivision leaves
+    // them); front = u × v.
+    void grid(const glm::dvec3& p0, const glm::dvec3& u, const glm::dvec3& v, int n) {
+        const auto base = static_cast<std::uint32_t>(vertices_.size());
+        for (int j = 0; j <= n; ++j)
+            for (int i = 0; i <= n; ++i) vertices_.push_back(p0 + (double(i) / n) * u + (double(j) / n) * v);
+        auto at = [&](int i, int j) { return base + static_cast<std::uint32_t>(j * (n + 1) + i); };
+        for (int j = 0; j < n; ++j)
+            for (int i = 0; i < n; ++i) {
+                triangles_.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+                triangles_.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+            }
+    }
+    void box(const glm::dvec3& lo, const glm::dvec3& hi, int n, bool inward) {
+        const glm::dvec3 s = hi - lo, x(s.x, 0, 0), y(0, s.y, 0), z(0, 0, s.z);
+        auto face = [&](const glm::dvec3& p0, const glm::dvec3& u, const glm::dvec3& v) {
+            inward ? grid(p0, u, v, n) : grid(p0 + u, -u, v, n);  // mirrored for outward faces
+        };
+        face(lo, x, y);
+        face(lo + z, y, x);
+        face(lo, z, x);
+        face(lo + y, x, z);
+        face(lo, y, z);
+        face(lo + x, z, y);
+    }
+    double uniform(double a, double b) { return std::uniform_real_distribution<double>(a, b)(rng_); }
+    std::mt19937& rng() { return rng_; }
+
+    PatchMesh build() {
+        PatchMesh mesh;
+        ElementArrays& e = mesh.elements;
+        Bounds bounds;
+        for (const glm::dvec3& p : vertices_) bounds.extend(p);
+        e.vertices = vertices_;
+        e.triangles = triangles_;
+        for (const auto& t : triangles_) {
+            const glm::dvec3 a = vertices_[t[0]], b = vertices_[t[1]], c = vertices_[t[2]];
+            const glm::dvec3 cross = glm::cross(b - a, c - a);
+            e.normal.push_back(glm::vec3(glm::normalize(cross)));
+            e.centroid.push_back((a + b + c) / 3.0);
+            e.areaM2.push_back(0.5 * glm::length(cross));
+        }
+        mesh.origin = bounds.centre();
+        mesh.sceneDiagonalM = bounds.diagonal();
+        return mesh;
+    }
+
+private:
+    std::mt19937 rng_;
+    std::vector<glm::dvec3> vertices_;
+    std::vector<std::array<std::uint32_t, 3>> triangles_;
+};
+
+// A 10 × 4 × 8 m room (walls gridded roomGrid²) with `boxes` outward boxes (faces gridded boxGrid²).
+PatchMesh roomWithBoxes(int roomGrid, int boxes, int boxGrid) {
+    Generator g(1234);
+    g.box({0, 0, 0}, {10, 4, 8}, roomGrid, true);
+    for (int k = 0; k < boxes; ++k) {
+        const glm::dvec3 size(g.uniform(0.2, 1.5), g.uniform(0.2, 1.5), g.uniform(0.2, 1.5));
+        const glm::dvec3 lo(g.uniform(0.1, 9.9 - size.x), g.uniform(0.0, 3.9 - size.y), g.uniform(0.1, 7.9 - size.z));
+        g.box(lo, lo + size, boxGrid, false);
+    }
+    return g.build();
+}
+
+struct SceneSpec {
+    int roomGrid, boxes, boxGrid;
+};
+// 12·roomGrid² + 12·boxes·boxGrid² triangles: 1008, 9984, 104448.
+const std::map<int, SceneSpec> kScenes = {{1, {6, 48, 1}}, {10, {16, 64, 3}}, {100, {48, 100, 8}}};
+
+const PatchMesh& scene(int kiloTriangles) {
+    static std::map<int, std::unique_ptr<PatchMesh>> cache;
+    auto& slot = cache[kiloTriangles];
+    if (!slot) {
+        const SceneSpec s = kScenes.at(kiloTriangles);
+        slot = std::make_unique<PatchMesh>(roomWithBoxes(s.roomGrid, s.boxes, s.boxGrid));
+    }
+    return *slot;
+}
+
+// Hemicubes at element centroids facing along the element normals, as shooting from patches would place them.
+std::vector<HemicubeFrame> frames(const PatchMesh& mesh, int count) {
+    std::mt19937 rng(99);
+    std::uniform_int_distribution<std::size_t> pick(0, mesh.elements.size() - 1);
+    std::vector<HemicubeFrame> result;
+    for (int k = 0; k < count; ++k) {
+        const std::size_t e = pick(rng);
+        result.push_back(HemicubeFrame::randomlyRotated(mesh.elements.centroid[e], glm::dvec3(mesh.elements.normal[e]), k));
+    }
+    return result;
+}
+
+enum class Mode { Items, Gather };
+
+void runHemicubes(benchmark::State& state, Mode mode) {
+    const int kiloTriangles = static_cast<int>(state.range(0));
+    const int resolution = static_cast<int>(state.range(1));
+    const int threads = static_cast<int>(state.range(2));
+    const PatchMesh& mesh = scene(kiloTriangles);
+    const int batch = 64;
+    const std::vector<HemicubeFrame> batchFrames = frames(mesh, batch);
+
+    tbb::task_arena arena(threads);
+    HemicubePool pool(mesh, resolution);
+    pool.setElementRadiance(std::vector<glm::vec3>(mesh.elements.size(), glm::vec3(1.0f)));
+    tbb::enumerable_thread_specific<FormFactorList> lists;
+    std::atomic<std::size_t> chunksDrawn{0};
+    auto render = [&] {
+        arena.execute([&] {
+            tbb::parallel_for(0, batch, [&](int i) {
+                HemicubeRenderer& renderer = pool.local();
+                if (mode == Mode::Items)
+                    renderer.renderFormFactors(batchFrames[i], lists.local());
+                else
+                    benchmark::DoNotOptimize(renderer.gatherIrradianceOverPi(batchFrames[i], glm::vec3(0.5f)));
+                chunksDrawn += renderer.lastChunksDrawn();
+            });
+        });
+    };
+    render();  // warm-up: every worker creates its context and uploads the scene
+    chunksDrawn = 0;
+    for (auto _ : state) render();
+    double checksum = 0.0;
+    for (const FormFactorList& l : lists) checksum += l.sum();
+    benchmark::DoNotOptimize(checksum);
+
+    const double hemicubes = double(state.iterations()) * batch;
+    state.SetItemsProcessed(static_cast<std::int64_t>(hemicubes));
+    state.counters["triangles"] = double(mesh.elements.size());
+    state.counters["workers"] = double(pool.workerCount());
+    // Triangles sent to llvmpipe per hemicube (summed over the five faces), as a fraction of the scene.
+    state.counters["drawn"] = double(chunksDrawn.load()) * SceneBuffers::kDefaultTrianglesPerChunk /
+                              (hemicubes * double(mesh.elements.size()));
+    state.counters["hemicubes/s"] = benchmark::Counter(hemicubes, benchmark::Counter::kIsRate);
+}
+
+void BM_ItemBuffer(benchmark::State& state) { runHemicubes(state, Mode::Items); }
+void BM_RadianceGather(benchmark::State& state) { runHemicubes(state, Mode::Gather); }
+
+BENCHMARK(BM_ItemBuffer)
+    ->ArgNames({"ktris", "R", "threads"})
+    ->ArgsProduct({{1, 10, 100}, {32, 64, 128, 256}, {1, 2}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->MinTime(1.0);
+BENCHMARK(BM_RadianceGather)
+    ->ArgNames({"ktris", "R", "threads"})
+    ->ArgsProduct({{1, 10, 100}, {64}, {1, 2}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->MinTime(1.0);
+
+}  // namespace
+}  // namespace hemibake
+
+int main(int argc, char** argv) {
+    // One llvmpipe context per worker already keeps the cores busy; llvmpipe's own rasterizer threads then
+    // only add hand-offs (+50 % CPU per hemicube at 10k triangles, R = 64, measured). llvmpipe reads this once,
+    // when the process creates its first context, so it must be set before any GlContext exists.
+    setenv("LP_NUM_THREADS", "0", /*overwrite=*/0);
+    benchmark::Initialize(&argc, argv);
+    if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+    benchmark::RunSpecifiedBenchmarks();
+    benchmark::Shutdown();
+    return 0;
+}

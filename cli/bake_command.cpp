@@ -1,0 +1,191 @@
+// `hemibake bake SCENE -o OUT/`: load, subdivide, solve, and write the bake (CONVENTIONS.md "Bake output layout").
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <optional>
+
+#include <tbb/global_control.h>
+
+#include "baker/adaptive_refinement.h"
+#include "baker/atomic_output.h"
+#include "baker/bake_report.h"
+#include "baker/embree_scene.h"
+#include "baker/presets.h"
+#include "baker/radiosity_solver.h"
+#include "cli/command.h"
+#include "cli/progress.h"
+#include "mesh/gltf_loader.h"
+#include "mesh/subdivision.h"
+#include "raster/hemicube_pool.h"
+
+namespace hemibake::cli {
+
+namespace {
+
+struct BakeOptions {
+    std::string scenePath;
+    std::string outDir;
+    std::string preset = "medium";
+    std::optional<double> patchSize, elementSize, emitterPatchSize, epsilon, maxTime, proximity;
+    std::optional<int> hemicubeRes, gatherSweeps, adaptiveLevels;
+    std::optional<double> adaptiveThreshold;
+    std::optional<std::uint64_t> maxShots;
+    std::optional<std::string> solver;
+    std::vector<float> sky;
+    float sunDiameterDeg = 0.0f;
+    bool noAmbient = false;
+    int threads = 0;
+    std::uint64_t seed = 1;
+    bool progress = false;
+};
+
+class StageClock {
+public:
+    double lap() {
+        const auto now = std::chrono::steady_clock::now();
+        const double s = std::chrono::duration<double>(now - last_).count();
+        last_ = now;
+        return s;
+    }
+private:
+    std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
+};
+
+BakeSettings resolveSettings(const BakeOptions& o, double sceneDiagonalM) {
+    BakeSettings s = presetSettings(o.preset, sceneDiagonalM);
+    if (o.patchSize) s.subdivision.patchSizeM = *o.patchSize;
+    if (o.elementSize) s.subdivision.elementSizeM = *o.elementSize;
+    if (o.patchSize && !o.elementSize) s.subdivision.elementSizeM = std::min(s.subdivision.elementSizeM, *o.patchSize);
+    if (o.emitterPatchSize) s.subdivision.emitterPatchSizeM = *o.emitterPatchSize;
+    if (o.epsilon) s.solver.epsilon = *o.epsilon;
+    if (o.maxTime) s.solver.maxTimeSeconds = *o.maxTime;
+    if (o.maxShots) s.solver.maxShots = *o.maxShots;
+    if (o.hemicubeRes) s.solver.hemicubeResolution = *o.hemicubeRes;
+    if (o.gatherSweeps) {
+        s.solver.gatherSweeps = *o.gatherSweeps;
+        s.solver.maxGatherSweeps = std::max(*o.gatherSweeps, 1);
+    }
+    if (o.proximity) s.solver.proximityFactor = *o.proximity;
+    if (o.adaptiveLevels) s.adaptive.levels = *o.adaptiveLevels;
+    if (o.adaptiveThreshold) s.adaptive.threshold = *o.adaptiveThreshold;
+    if (o.solver) s.solver.kind = parseSolverKind(*o.solver);
+    s.solver.ambientCorrection = !o.noAmbient;
+    s.solver.threads = o.threads;
+    s.solver.seed = o.seed;
+    if (o.sky.size() == 3) s.lighting.skyRadiance = glm::vec3(o.sky[0], o.sky[1], o.sky[2]);
+    s.lighting.sunAngularDiameterRad = float(o.sunDiameterDeg * M_PI / 180.0);
+    return s;
+}
+
+std::string percent(double fraction) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.3g%%", 100.0 * fraction);
+    return buf;
+}
+
+int runBake(const BakeOptions& o) {
+    namespace fs = std::filesystem;
+    ProgressLine progress(o.progress);
+    StageClock clock;
+    BakeReport report;
+    report.scenePath = o.scenePath;
+
+    const Scene scene = loadGltf(o.scenePath);
+    report.timings.push_back({"load", clock.lap()});
+    report.settings = resolveSettings(o, scene.bounds().diagonal());
+    const BakeSettings& settings = report.settings;
+    if (settings.solver.hemicubeResolution < 2 || settings.solver.hemicubeResolution % 2)
+        throw std::invalid_argument("--hemicube-res must be an even number >= 2");
+    std::unique_ptr<tbb::global_control> threadLimit;
+    if (settings.solver.threads > 0)
+        threadLimit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                                            std::size_t(settings.solver.threads));
+
+    progress.update("preparing", true);
+    const EmbreeScene rays(scene);
+    report.timings.push_back({"setup", clock.lap()});
+    RadiosityBake bake = solveWithRefinement(scene, settings, rays,
+                                  [&](const std::string& stage, const ConvergenceRecord& r) {
+                                      std::string line = stage + ": ";
+                                      if (stage == "shoot")
+                                          line += std::to_string(r.shots) + " shots, unshot " + percent(r.unshotFraction) +
+                                                  " of injected (stop at " + percent(settings.solver.epsilon) + ")";
+                                      else
+                                          line += "sweep done, error bound " + percent(r.errorBound);
+                                      char t[32];
+                                      std::snprintf(t, sizeof t, ", %.1f s", r.seconds);
+                                      progress.update(line + t);
+                                  });
+    report.solve = bake.report;
+    report.triangles = scene.triangleCount();
+    report.patches = bake.mesh.patches.size();
+    report.elements = bake.mesh.elements.size();
+    report.extra["refinement"] = {{"levels", settings.adaptive.levels},
+                                  {"threshold", settings.adaptive.threshold},
+                                  {"elementsBefore", bake.elementsBeforeRefinement},
+                                  {"elementsAfter", bake.mesh.elements.size()},
+                                  {"regions", bake.refinementRegions}};
+    report.timings.push_back({"solve", clock.lap()});
+    report.timings.push_back({"direct", report.solve.directSeconds});
+    report.timings.push_back({"shoot", report.solve.shootSeconds});
+    report.timings.push_back({"gather", report.solve.gatherSeconds});
+    progress.finish("solved: " + report.solve.stopReason + ", " + std::to_string(report.solve.shots) + " shots, " +
+                    std::to_string(report.solve.gatherSweeps) + " gather sweeps, unshot " +
+                    percent(report.solve.unshotFraction) + ", error bound " + percent(report.solve.errorBound));
+
+    report.peakMemoryMiB = peakResidentMemoryMiB();
+    const fs::path out(o.outDir);
+    writeTextAtomically(out / "bake.json", report.toJson().dump(2) + "\n");
+    std::cout << (out / "bake.json").string() << "\n";
+    return 0;
+}
+
+}  // namespace
+
+CommandRunner addBakeCommand(CLI::App& app) {
+    auto o = std::make_shared<BakeOptions>();
+    CLI::App* cmd = app.add_subcommand("bake", "Solve the radiosity of a glTF scene and write the bake to OUT/ "
+                                               "(bake.json: settings, timings, convergence history, power ledger)");
+    cmd->add_option("scene", o->scenePath, "glTF 2.0 scene (.gltf or .glb)")->required();
+    cmd->add_option("-o,--output", o->outDir, "Output directory (created if missing; files appear atomically)")->required();
+    std::string presetHelp = "Speed/accuracy preset; sizes scale with the scene's bounding-box diagonal:";
+    for (const PresetDescription& p : presetDescriptions()) presetHelp += "\n  " + p.name + ": " + p.summary;
+    cmd->add_option("--preset", o->preset, presetHelp)->capture_default_str()->check(CLI::IsMember({"draft", "medium", "high", "ultra"}));
+    cmd->add_option("--patch-size", o->patchSize, "Longest edge of a shooting patch, metres (overrides the preset)")
+        ->check(CLI::PositiveNumber);
+    cmd->add_option("--element-size", o->elementSize, "Longest edge of a receiving element, metres")->check(CLI::PositiveNumber);
+    cmd->add_option("--emitter-patch-size", o->emitterPatchSize, "Longest edge of an emitter patch, metres (default patch size / 4)")
+        ->check(CLI::PositiveNumber);
+    cmd->add_option("--hemicube-res", o->hemicubeRes,
+                    "Hemicube resolution R (front face R×R pixels); form-factor error falls as ~R^-1.5 (docs/accuracy.md)")
+        ->check(CLI::Range(2, 4096));
+    cmd->add_option("--solver", o->solver,
+                    "shoot: progressive refinement only; gather: Jacobi sweeps only; hybrid: shoot, then gather at receivers")
+        ->check(CLI::IsMember({"shoot", "gather", "hybrid"}));
+    cmd->add_option("--epsilon", o->epsilon, "Stop shooting when unshot power <= epsilon × injected power (gather: when the "
+                                             "error bound <= epsilon)")->check(CLI::Range(0.0, 1.0));
+    cmd->add_option("--max-time", o->maxTime, "Stop shooting after this many seconds (0 = no limit)")->check(CLI::NonNegativeNumber);
+    cmd->add_option("--max-shots", o->maxShots, "Stop shooting after this many shots (0 = no limit)");
+    cmd->add_option("--gather-sweeps", o->gatherSweeps, "Gathering sweeps after shooting (hybrid) or at most (gather)")
+        ->check(CLI::Range(0, 10000));
+    cmd->add_option("--proximity", o->proximity,
+                    "A patch shoots from several sample points when a surface is nearer than this × its size")
+        ->check(CLI::NonNegativeNumber);
+    cmd->add_option("--adaptive-levels", o->adaptiveLevels,
+                    "Refine elements at light/shadow boundaries this many times (each halves their size), then solve again")
+        ->check(CLI::Range(0, 6));
+    cmd->add_option("--adaptive-threshold", o->adaptiveThreshold,
+                    "Relative radiosity difference between neighbouring elements that triggers refinement")
+        ->check(CLI::Range(0.0, 10.0));
+    cmd->add_flag("--no-ambient", o->noAmbient, "Do not add the ambient term for still-unshot light (Cohen et al. 1988)");
+    cmd->add_option("--sky", o->sky, "Uniform sky radiance R,G,B in W·m⁻²·sr⁻¹ seen where rays escape")->delimiter(',')->expected(3);
+    cmd->add_option("--sun-diameter", o->sunDiameterDeg, "Angular diameter of directional lights in degrees (0.53 = the sun; "
+                                                         "0 = hard shadows)")->check(CLI::Range(0.0, 30.0));
+    cmd->add_option("--threads", o->threads, "Worker threads (0 = all cores)")->check(CLI::NonNegativeNumber);
+    cmd->add_option("--seed", o->seed, "Seed for hemicube rotations and sampling (bakes are reproducible per seed)");
+    cmd->add_flag("--progress", o->progress, "Report progress on stderr even when it is not a terminal");
+    return [o]() { return runBake(*o); };
+}
+
+}  // namespace hemibake::cli

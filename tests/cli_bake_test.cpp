@@ -1,0 +1,69 @@
+// `hemibake bake` as users call it: the bake.json contract, convergence history, exit codes, no partial output.
+#include <filesystem>
+#include <fstream>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "support/gltf_fixture.h"
+
+using hemibake::test::runHemibake;
+using hemibake::test::TempDir;
+
+TEST(CliBake, CornellWritesReportWithConvergenceHistory) {
+    TempDir dir;
+    const std::string out = dir.file("out");
+    const auto r = runHemibake({"bake", hemibake::test::sharedScene("cornell_box.gltf"), "-o", out, "--preset", "draft",
+                                "--hemicube-res", "32", "--epsilon", "0.02", "--solver", "shoot", "--progress"});
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.err.find("solved: converged"), std::string::npos) << r.err;  // progress was reported
+    std::ifstream in(out + "/bake.json");
+    ASSERT_TRUE(in.good());
+    const auto j = nlohmann::json::parse(in);
+    EXPECT_EQ(j["format"], "hemibake-bake/1");
+    EXPECT_EQ(j["settings"]["hemicubeResolution"], 32);
+    EXPECT_EQ(j["settings"]["preset"], "draft");
+    EXPECT_EQ(j["convergence"]["stopReason"], "converged");
+    EXPECT_LE(j["convergence"]["unshotFraction"].get<double>(), 0.02);
+    const auto& history = j["convergence"]["history"];
+    ASSERT_GE(history.size(), 3u);
+    EXPECT_DOUBLE_EQ(history.front()["unshotFraction"].get<double>(), 1.0);  // nothing shot yet
+    EXPECT_LE(history.back()["unshotFraction"].get<double>(), 0.02);
+    for (std::size_t i = 1; i < history.size(); ++i)
+        EXPECT_GE(history[i]["shots"].get<double>(), history[i - 1]["shots"].get<double>());
+    // Power ledger: every emitted watt is absorbed, escaped through the open front, or still unshot.
+    for (int c = 0; c < 3; ++c) {
+        const double in_ = j["power"]["emittedW"][c].get<double>() + j["power"]["directW"][c].get<double>();
+        const double out_ = j["power"]["absorbedW"][c].get<double>() + j["power"]["escapedW"][c].get<double>() +
+                            j["power"]["backfaceW"][c].get<double>() + j["power"]["unshotW"][c].get<double>();
+        EXPECT_NEAR(out_, in_, 1e-6 * in_) << "channel " << c;
+    }
+    for (const char* stage : {"load", "subdivide", "shoot", "total"}) EXPECT_TRUE(j["timings"].contains(stage)) << stage;
+    EXPECT_GT(j["peakMemoryMiB"].get<double>(), 0.0);
+}
+
+TEST(CliBake, BadSceneLeavesNoOutput) {
+    TempDir dir;
+    std::ofstream(dir.file("bad.gltf")) << "{\"asset\":{\"version\":\"2.0\"},\"scenes\":[{\"nodes\":[]}]}";
+    const std::string out = dir.file("out");
+    const auto r = runHemibake({"bake", dir.file("bad.gltf"), "-o", out});
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.err.find("bad.gltf"), std::string::npos) << r.err;
+    EXPECT_FALSE(std::filesystem::exists(out + "/bake.json"));
+}
+
+TEST(CliBake, BadKnobsExitTwo) {
+    const std::string scene = hemibake::test::sharedScene("cornell_box.gltf");
+    EXPECT_EQ(runHemibake({"bake", scene}).exitCode, 2);                                  // no -o
+    EXPECT_EQ(runHemibake({"bake", scene, "-o", "/tmp/x", "--preset", "fast"}).exitCode, 2);
+    EXPECT_EQ(runHemibake({"bake", scene, "-o", "/tmp/x", "--sky", "1,2"}).exitCode, 2);
+    EXPECT_EQ(runHemibake({"bake", scene, "-o", "/tmp/x", "--solver", "magic"}).exitCode, 2);
+}
+
+TEST(CliBake, HelpExplainsEveryKnob) {
+    const auto r = runHemibake({"bake", "--help"});
+    EXPECT_EQ(r.exitCode, 0);
+    for (const char* knob : {"--preset", "--patch-size", "--element-size", "--hemicube-res", "--epsilon", "--solver",
+                             "--gather-sweeps", "--sky", "--max-time", "--threads", "draft", "ultra"})
+        EXPECT_NE(r.out.find(knob), std::string::npos) << knob;
+}
