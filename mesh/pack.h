@@ -1,21 +1,25 @@
 #pragma once
-// Chart packing for lightmap atlases.
+// Chart packing for lightmap atlases (xatlas-style bitmap packing).
 //
-// Each chart (UVs in metres) is turned to its minimal-area oriented bounding box (rotating calipers on the
-// convex hull), scaled to `texelsPerUnit` and rasterized conservatively into a footprint: every texel the
-// chart's triangles touch (see forEachTouchedTexel). Footprints are packed into square atlases with a
-// skyline packer that works on the footprints' real column profiles (a chart may drop into the notch of one
-// below it), trying 0° and 90° per chart and choosing the lowest, then left-most position. A chart's footprint
-// grown by `paddingTexels` (square dilation) may not overlap any other footprint, so at least `paddingTexels`
-// free texels separate any two charts; footprints also keep `borderTexels` from the atlas edge.
+// Each chart (UVs in metres) is turned to its minimal-area oriented bounding box (best edge direction of its
+// convex hull), made landscape, scaled to `texelsPerUnit` and rasterized conservatively into a footprint: every
+// texel the chart's triangles touch (see forEachTouchedTexel), in 4 orientations (0°, 90°, 180°, 270°;
+// duplicates of symmetric charts dropped). Charts are placed largest first on a square canvas that stores the
+// occupied texels as sorted runs per row, so a chart can drop into holes and notches of others (arcs nest
+// into arcs). Each chart goes where the square holding everything placed so far grows least (xatlas' metric),
+// ties going to the smaller extent area, then the higher, then the left-most position. A chart's footprint
+// grown by `paddingTexels` (square dilation) may not overlap any other footprint, so at least
+// `paddingTexels` free texels separate any two charts; footprints also keep `borderTexels` from the edge.
 //
-// Atlas size: when everything fits into one `maxAtlasSize` atlas, the smallest square size (a multiple of
-// `sizeMultiple`, or a power of two) that holds it is found by bisection. Otherwise charts spill into further
-// atlases of `maxAtlasSize`, keeping all charts of a group (an instance) in one atlas, and the last atlas is
-// shrunk the same way. A chart, or a group, larger than an atlas is scaled down until it fits (warning).
+// Atlas size: when everything fits one `maxAtlasSize` canvas, the atlas is the used square rounded up to a
+// multiple of `sizeMultiple` (or a power of two). Otherwise atlases are filled group by group (a group is an
+// instance: all its charts share an atlas), each group going into the current atlas if all its charts fit,
+// and every atlas is cut to its used square. A chart larger than an atlas, or a group that cannot fit one
+// empty atlas, is scaled down until it fits (warning).
 //
 // Texel coordinates: x right, y down (rows from the top); texel (i, j) covers [i, i+1] × [j, j+1] and its
-// centre is at UV ((i + 0.5)/size, (j + 0.5)/size) — glTF TEXCOORD_1 (origin top-left, v down).
+// centre is at UV ((i + 0.5)/size, (j + 0.5)/size) — glTF TEXCOORD_1 (origin top-left, v down). Packing only
+// rotates and translates (never mirrors), so every chart keeps the orientation of its parameterization.
 #include <array>
 #include <algorithm>
 #include <cmath>

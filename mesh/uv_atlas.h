@@ -9,6 +9,8 @@
 //   vertexSource[k] the SurfaceMesh vertex it copies (position, normal, TEXCOORD_0 come from there)
 //   triangles[t]    unwrapped triangle t (indices into the unwrapped vertices), same winding as the input
 //   faceSource[t]   the SurfaceMesh face it copies (SurfaceMesh::sourceFace gives the glTF triangle index)
+// Every unwrapped triangle has positive signed area in (u, v) taken as plain numbers (charts are never
+// mirrored), i.e. it appears clockwise in the image with v down; no UV triangle is flipped or degenerate.
 // Each chart owns a contiguous run of unwrapped vertices and triangles (AtlasChart::first*/count).
 // All charts of one instance lie in one atlas (UnwrappedInstance::atlas), so a glTF primitive needs a
 // single lightmap texture.
@@ -34,7 +36,7 @@ namespace hemibake {
 
 struct UnwrapSettings {
     double texelsPerUnit = 128.0;  // lightmap texels per metre
-    int maxAtlasSize = 1024;       // texels (square atlases)
+    int maxAtlasSize = 1024;       // texels (square atlases, at most 8192)
     int paddingTexels = 2;         // free texels between charts (≥ 2 recommended for bilinear + dilation)
     int borderTexels = 1;          // free texels at the atlas edge
     bool allowRotation = true;

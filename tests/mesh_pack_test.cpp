@@ -346,6 +346,12 @@ TEST(MeshPack, UnwrappedMeshMapsBackToTheInput) {
             for (int k = 0; k < 3; ++k)
                 rotation = rotation || (src[std::size_t(k)] == a && src[std::size_t((k + 1) % 3)] == b2 && src[std::size_t((k + 2) % 3)] == c);
             EXPECT_TRUE(rotation) << "instance " << i << " triangle " << t;
+            // Never flipped or degenerate: positive signed area in (u, v), at least a texel-scale fraction.
+            const glm::dvec2 p0 = ui.uv[ui.triangles[t][0]], p1 = ui.uv[ui.triangles[t][1]], p2 = ui.uv[ui.triangles[t][2]];
+            const double S = atlas.atlases[std::size_t(ui.atlas)].size;
+            const double uvArea = 0.5 * ((p1.x - p0.x) * (p2.y - p0.y) - (p1.y - p0.y) * (p2.x - p0.x)) * S * S;
+            const double texelArea = mesh.faceArea(SurfaceMesh::FaceHandle(ui.faceSource[t])) * 128.0 * 128.0;
+            EXPECT_GT(uvArea, 0.5 * texelArea);
         }
         // Chart runs tile the unwrapped arrays; within a chart an input vertex appears once.
         std::uint32_t nextVertex = 0, nextTriangle = 0;
