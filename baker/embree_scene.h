@@ -11,13 +11,13 @@
 // rayEpsilonM() is that bound with a wide margin (kRayEpsilonRelative × scene diagonal, ≈ 60 ulps). Two ways to
 // use it, chosen per query by RayEnds:
 //  - OnSurface (default): the ray's ends may lie on surfaces; rayEpsilonM() is skipped along the ray at each end.
-//    Simple, but a surface closer than rayEpsilonM() to an end is missed (light leaks into concave corners), and
-//    at a grazing angle θ the skipped piece is only rayEpsilonM()·sinθ away from the surface (float error wins).
+//    Simple, but any surface closer than rayEpsilonM() to an end is missed (light leaks into concave corners and
+//    through walls thinner than that), and at a grazing angle θ the skipped piece is only rayEpsilonM()·sinθ away
+//    from the surface, where float error wins (measured in a furnace: 2e-4 to 4e-4 too dark 1 to 0.1 mm from a wall).
 //  - Lifted: the caller moved the ends off their surfaces with offsetFromSurface() (along the normal, to the side
 //    the ray travels), which no float error can undo at any angle; nothing is skipped, so nearby surfaces count.
-//    The baker's own rays all use this.
-// Consequence either way: walls thinner than ~2 × rayEpsilonM() (15 µm for a 2 m room, 0.4 mm for a 100 m level)
-// can leak.
+//    DirectLight and PathTracer use this for all their rays.
+// rayEpsilonM() is 4e-6 × the diagonal: 16 µm for a 2 × 2 × 3 m room, 0.7 mm for a 100 m cube of a level.
 //
 // Thread safety: every const query may run concurrently (Embree's rtcIntersect1/rtcOccluded1 are).
 #include <array>

@@ -241,7 +241,8 @@ glm::dvec3 PathTracer::reflectedRadiance(const Vertex& start, Sampler& sampler, 
     glm::dvec3 throughput(1.0);  // path weight up to the current vertex, its reflectance not yet applied
     Vertex x = start;
     for (int depth = 0; depth < settings_.maxDepth; ++depth) {
-        radiance += throughput * x.reflectance * (emitterNee(x, sampler, rays) + punctualNee(x, sampler, rays));
+        if (maxComponent(x.reflectance) > 0.0)  // a black surface needs no shadow rays
+            radiance += throughput * x.reflectance * (emitterNee(x, sampler, rays) + punctualNee(x, sampler, rays));
 
         // Cosine-weighted bounce: BRDF·cos/pdf = (ρ/π)·cosθ / (cosθ/π) = ρ.
         const glm::dvec3 dir = cosineDirection(x.normal, sampler.uniform(), sampler.uniform());

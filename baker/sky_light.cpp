@@ -41,7 +41,7 @@ double skyVisibility(const EmbreeScene& rays, const glm::dvec3& p, const glm::dv
             const double u = (i + uniform01(state)) / side, v = (j + uniform01(state)) / side;
             const double r = std::sqrt(u), phi = 2.0 * M_PI * v;
             const glm::dvec3 dir = r * std::cos(phi) * t + r * std::sin(phi) * b + std::sqrt(std::max(0.0, 1.0 - u)) * n;
-            open += rays.occludedRay(origin, dir, std::numeric_limits<double>::infinity()) ? 0 : 1;
+            open += rays.occludedRay(origin, dir, std::numeric_limits<double>::infinity(), EmbreeScene::RayEnds::Lifted) ? 0 : 1;
         }
     return double(open) / double(side * side);
 }

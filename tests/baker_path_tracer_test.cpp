@@ -100,6 +100,45 @@ TEST(PathTracer, FurnaceSeenByTheCamera) {
     EXPECT_GT(image.rays, 12u * 8u * 64u);
 }
 
+TEST(PathTracer, TexturedReflectanceFollowsTheTexcoords) {
+    SceneBuilder b;
+    const int floorMaterial = b.addMaterial(glm::vec3(0.999f));
+    b.addQuad({0, 0, 1}, {1, 0, 1}, {1, 0, 0}, {0, 0, 0}, floorMaterial, "floor");  // faces +y
+    PunctualLight sun;
+    sun.type = LightType::Directional;
+    sun.intensity = glm::vec3(3.0f);
+    sun.direction = {0, -1, 0};
+    b.addLight(sun);
+    Scene scene = b.build();
+    // Two texels, 0.2 (left) and 0.6 (right), bilinear with REPEAT; u = x on the floor.
+    scene.textures.push_back({2, 1, {0.2f, 0.2f, 0.2f, 0.6f, 0.6f, 0.6f}});
+    scene.materials[std::size_t(floorMaterial)].reflectanceTexture = 0;
+    SurfaceMesh& mesh = scene.instances[0].mesh;
+    for (auto v : mesh.vertices()) mesh.set_texcoord2D(v, {float(mesh.point(v)[0]), float(mesh.point(v)[2])});
+    const EmbreeScene rays(scene);
+    PathTracerSettings settings;
+    settings.maxDepth = 1;
+    const PathTracer tracer(scene, rays, settings);
+
+    // Looking straight down from 1 m, tan(fov/2) = 0.5: the 4 × 4 image spans the floor exactly, x to the right.
+    Camera camera;
+    camera.position = {0.5, 1.0, 0.5};
+    camera.forward = {0, -1, 0};
+    camera.up = {0, 0, -1};
+    camera.yfovRadians = float(2.0 * std::atan(0.5));
+    const Image image = tracer.renderCamera(camera, 4, 4, 256);
+    // Texel centres sit at u = 0.25 and 0.75 and ρ is linear over each pixel's footprint (the pixel → floor map
+    // is affine), so a pixel's mean is ρ at its centre u = 0.125, 0.375, 0.625, 0.875 (the first wraps around).
+    const double expectedRho[4] = {0.6 - 0.4 * 0.75, 0.2 + 0.4 * 0.25, 0.2 + 0.4 * 0.75, 0.6 - 0.4 * 0.25};
+    for (int y = 0; y < 4; ++y)
+        for (int x = 0; x < 4; ++x) {
+            const std::size_t i = 3 * std::size_t(y * 4 + x);
+            const double expected = expectedRho[x] * 3.0 / kPi;
+            const double sigma = std::sqrt(double(image.varianceOfMean[i]));
+            EXPECT_NEAR(image.rgb[i], expected, 3.0 * sigma + 1e-5 * expected) << "pixel " << x << "," << y;
+        }
+}
+
 TEST(PathTracer, EmissiveRectangleMatchesCornerFormFactors) {
     const glm::vec3 emitted(2.0f, 1.0f, 0.5f);
     struct Case { bool parallel; double a, b, c, table; };
