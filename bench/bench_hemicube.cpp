@@ -3,7 +3,7 @@
 //
 //   build/bench/bench_hemicube --benchmark_counters_tabular=true
 //
-// LP_NUM_THREADS defaults to 0 here (see main); run with LP_NUM_THREADS=2 to compare.
+// The machine's other load matters a lot with 2 cores: note `uptime` next to any numbers you keep.
 // Each iteration renders a batch of hemicubes at random points on random elements (facing along the
 // element normal, randomly rotated), spread over the workers with tbb::parallel_for; contexts and scene
 // uploads are warmed up before timing, as a bake would amortise them.
@@ -13,7 +13,6 @@
 #include <tbb/task_arena.h>
 
 #include <array>
-#include <cstdlib>
 #include <atomic>
 #include <map>
 #include <memory>
@@ -184,14 +183,4 @@ BENCHMARK(BM_RadianceGather)
 }  // namespace
 }  // namespace hemibake
 
-int main(int argc, char** argv) {
-    // One llvmpipe context per worker already keeps the cores busy; llvmpipe's own rasterizer threads then
-    // only add hand-offs (+50 % CPU per hemicube at 10k triangles, R = 64, measured). llvmpipe reads this once,
-    // when the process creates its first context, so it must be set before any GlContext exists.
-    setenv("LP_NUM_THREADS", "0", /*overwrite=*/0);
-    benchmark::Initialize(&argc, argv);
-    if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-    benchmark::RunSpecifiedBenchmarks();
-    benchmark::Shutdown();
-    return 0;
-}
+BENCHMARK_MAIN();

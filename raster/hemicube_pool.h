@@ -6,6 +6,8 @@
 //   tbb::parallel_for(0, n, [&](int i) { pool.local().renderFormFactors(frame(i), lists.local()); });
 //
 // llvmpipe runs each context's vertex stage on one thread, so contexts are never shared between workers.
+// (llvmpipe's own rasterizer threads, LP_NUM_THREADS, made no measurable difference on top of this:
+// docs/performance.md.)
 #include <cstdint>
 #include <memory>
 #include <span>
