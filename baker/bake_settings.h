@@ -39,6 +39,24 @@ struct AdaptiveSettings {
     double threshold = 0.2;   // |B_a − B_b| > threshold × max(B_a, B_b) (+ a small floor relative to the mean)
 };
 
+enum class TexelMode {
+    Interpolate,  // texels interpolate the element solution (fast)
+    Gather,       // texels gather from a final hemicube each, placed adaptively (quality)
+};
+
+struct LightmapSettings {
+    double texelsPerUnit = 0.0;     // texels per metre; 0 = from the preset and scene size
+    int maxAtlasSize = 1024;
+    int paddingTexels = 2;
+    TexelMode mode = TexelMode::Gather;
+    int latticeStep = 4;            // Elias-style placement: hemicubes on every 4th texel first (power of two)
+    double interpolationTolerance = 0.05;  // interpolate a texel when its lattice neighbours agree within this
+    double invalidBackfaceFraction = 0.1;  // a texel whose hemicube sees more back faces is inside geometry
+    int dilationTexels = 2;         // padding texels filled from their chart's edge
+    bool stitchSeams = true;
+    bool keepExistingUv = false;    // use TEXCOORD_1 from the input where present
+};
+
 struct LightingSettings {
     glm::vec3 skyRadiance{0.0f};        // uniform sky, W·m⁻²·sr⁻¹, seen where rays and hemicube pixels escape
     int skySamplesPerElement = 64;      // cosine-weighted visibility rays for direct sky light
@@ -51,6 +69,7 @@ struct BakeSettings {
     SubdivisionSettings subdivision;
     SolverSettings solver;
     AdaptiveSettings adaptive;
+    LightmapSettings lightmap;
     LightingSettings lighting;
 };
 

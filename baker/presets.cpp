@@ -46,6 +46,8 @@ BakeSettings presetSettings(const std::string& name, double sceneDiagonalM) {
         s.solver.gatherSweeps = p.gatherSweeps;
         s.solver.kind = p.gatherSweeps > 0 ? SolverKind::Hybrid : SolverKind::Shoot;
         s.adaptive.levels = p.adaptiveLevels;
+        // The draft preset fills texels from the element solution; the others gather at every texel that needs it.
+        s.lightmap.mode = std::string(p.name) == "draft" ? TexelMode::Interpolate : TexelMode::Gather;
         return s;
     }
     throw std::invalid_argument("unknown preset '" + name + "' (draft, medium, high or ultra)");

@@ -9,7 +9,12 @@
 
 #include "baker/adaptive_refinement.h"
 #include "baker/atomic_output.h"
+#include "baker/bake_layout.h"
 #include "baker/bake_report.h"
+#include "baker/exr_io.h"
+#include "baker/gltf_writer.h"
+#include "baker/lightmap_baker.h"
+#include "baker/png_preview.h"
 #include "baker/embree_scene.h"
 #include "baker/presets.h"
 #include "baker/radiosity_solver.h"
@@ -38,6 +43,12 @@ struct BakeOptions {
     int threads = 0;
     std::uint64_t seed = 1;
     bool progress = false;
+    std::optional<double> texelsPerUnit;
+    std::optional<int> maxAtlasSize, padding, lattice;
+    std::optional<double> interpTolerance;
+    std::optional<std::string> texelMode;
+    std::string uvMode = "unwrap";
+    std::string gltfMode = "lightmap";
 };
 
 class StageClock {
@@ -75,6 +86,13 @@ BakeSettings resolveSettings(const BakeOptions& o, double sceneDiagonalM) {
     s.solver.seed = o.seed;
     if (o.sky.size() == 3) s.lighting.skyRadiance = glm::vec3(o.sky[0], o.sky[1], o.sky[2]);
     s.lighting.sunAngularDiameterRad = float(o.sunDiameterDeg * M_PI / 180.0);
+    s.lightmap.texelsPerUnit = o.texelsPerUnit ? *o.texelsPerUnit : defaultTexelsPerUnit(s.preset, sceneDiagonalM);
+    if (o.maxAtlasSize) s.lightmap.maxAtlasSize = *o.maxAtlasSize;
+    if (o.padding) s.lightmap.paddingTexels = *o.padding;
+    if (o.lattice) s.lightmap.latticeStep = *o.lattice;
+    if (o.interpTolerance) s.lightmap.interpolationTolerance = *o.interpTolerance;
+    if (o.texelMode) s.lightmap.mode = *o.texelMode == "interpolate" ? TexelMode::Interpolate : TexelMode::Gather;
+    s.lightmap.keepExistingUv = o.uvMode == "keep";
     return s;
 }
 
@@ -134,8 +152,55 @@ int runBake(const BakeOptions& o) {
                     std::to_string(report.solve.gatherSweeps) + " gather sweeps, unshot " +
                     percent(report.solve.unshotFraction) + ", error bound " + percent(report.solve.errorBound));
 
-    report.peakMemoryMiB = peakResidentMemoryMiB();
+    // Lightmaps: unwrap, place texels, bake E/π per texel, write EXR + preview + lightmapped glb.
     const fs::path out(o.outDir);
+    progress.update("unwrapping", true);
+    const UvAtlas atlas = unwrapScene(scene, unwrapSettingsFor(settings.lightmap, settings.lightmap.texelsPerUnit));
+    const std::vector<AtlasTexels> texels = computeTexels(scene, atlas);
+    report.timings.push_back({"unwrap", clock.lap()});
+    LightmapStats lightmapStats;
+    const std::vector<LightmapImage> images = bakeLightmaps(
+        scene, bake.mesh, bake.solution, atlas, texels, *bake.pool, rays, settings, lightmapStats,
+        [&](std::size_t done, std::size_t total) {
+            progress.update("lightmaps: " + std::to_string(done) + " / " + std::to_string(total) + " texels");
+        });
+    report.timings.push_back({"lightmaps", clock.lap()});
+    GltfWriteOptions gltfOptions;
+    gltfOptions.mode = *parseGltfMode(o.gltfMode);
+    nlohmann::json files = nlohmann::json::array(), atlases = nlohmann::json::array();
+    for (std::size_t a = 0; a < images.size(); ++a) {
+        const std::string rel = lightmapRelativePath(gltfOptions, int(a));
+        writeLightmapExr(out / rel, images[a]);
+        writeLightmapPreviewPng((out / rel).replace_extension(".png"), images[a]);
+        files.push_back(rel);
+        atlases.push_back({{"size", images[a].size}, {"utilization", atlas.atlases[a].utilization}});
+    }
+    const std::string stem = fs::path(o.scenePath).stem().string();
+    report.primitives = writeLightmappedGlb(o.scenePath, scene, atlas, images, out / (stem + ".glb"), gltfOptions);
+    report.timings.push_back({"write", clock.lap()});
+    report.extra["sceneAbsolute"] = fs::absolute(o.scenePath).lexically_normal().string();
+    report.extra["lightmap"] = {{"texelsPerUnit", settings.lightmap.texelsPerUnit},
+                                {"maxAtlasSize", settings.lightmap.maxAtlasSize},
+                                {"paddingTexels", settings.lightmap.paddingTexels},
+                                {"keepExistingUv", settings.lightmap.keepExistingUv},
+                                {"texelMode", settings.lightmap.mode == TexelMode::Gather ? "gather" : "interpolate"},
+                                {"latticeStep", settings.lightmap.latticeStep},
+                                {"interpolationTolerance", settings.lightmap.interpolationTolerance},
+                                {"gltfMode", o.gltfMode},
+                                {"files", files},
+                                {"atlases", atlases},
+                                {"texels", lightmapStats.texels},
+                                {"renderedTexels", lightmapStats.rendered},
+                                {"renderedFraction", lightmapStats.renderedFraction()},
+                                {"interpolatedTexels", lightmapStats.interpolated},
+                                {"invalidTexels", lightmapStats.invalid},
+                                {"dilationTexels", settings.lightmap.dilationTexels},
+                                {"dilatedTexels", lightmapStats.dilated},
+                                {"charts", atlas.stats.charts}};
+    progress.finish("lightmaps: " + std::to_string(images.size()) + " atlas(es), " + std::to_string(lightmapStats.texels) +
+                    " texels, " + percent(lightmapStats.renderedFraction()) + " rendered by hemicube");
+
+    report.peakMemoryMiB = peakResidentMemoryMiB();
     writeTextAtomically(out / "bake.json", report.toJson().dump(2) + "\n");
     std::cout << (out / "bake.json").string() << "\n";
     return 0;
@@ -184,6 +249,25 @@ CommandRunner addBakeCommand(CLI::App& app) {
                                                          "0 = hard shadows)")->check(CLI::Range(0.0, 30.0));
     cmd->add_option("--threads", o->threads, "Worker threads (0 = all cores)")->check(CLI::NonNegativeNumber);
     cmd->add_option("--seed", o->seed, "Seed for hemicube rotations and sampling (bakes are reproducible per seed)");
+    cmd->add_option("--texels-per-unit", o->texelsPerUnit,
+                    "Lightmap texels per metre (default: preset × scene size, at least 8/16/32/64 for draft..ultra)")
+        ->check(CLI::PositiveNumber);
+    cmd->add_option("--max-atlas-size", o->maxAtlasSize, "Largest lightmap atlas, texels (more atlases when full)")
+        ->check(CLI::Range(16, 8192));
+    cmd->add_option("--padding", o->padding, "Free texels between charts (>= 2 keeps bilinear filtering clean)")
+        ->check(CLI::Range(0, 64));
+    cmd->add_option("--texel-mode", o->texelMode,
+                    "gather: a final hemicube per texel, placed adaptively; interpolate: from the element solution (fast)")
+        ->check(CLI::IsMember({"gather", "interpolate"}));
+    cmd->add_option("--lattice", o->lattice, "Adaptive placement: hemicubes on every Nth texel first, midpoints where "
+                                             "neighbours disagree (1 = every texel)")->check(CLI::IsMember({1, 2, 4, 8, 16}));
+    cmd->add_option("--interp-tolerance", o->interpTolerance,
+                    "Adaptive placement: neighbours agreeing within this relative spread are interpolated")
+        ->check(CLI::Range(0.0, 1.0));
+    cmd->add_option("--uv", o->uvMode, "unwrap: compute lightmap UVs; keep: use TEXCOORD_1 from the scene where present")
+        ->capture_default_str()->check(CLI::IsMember({"unwrap", "keep"}));
+    cmd->add_option("--gltf", o->gltfMode, "lightmap: PBR materials + MOZ_lightmap; emissive: viewable anywhere (baked "
+                                           "into emissive)")->capture_default_str()->check(CLI::IsMember({"lightmap", "emissive"}));
     cmd->add_flag("--progress", o->progress, "Report progress on stderr even when it is not a terminal");
     return [o]() { return runBake(*o); };
 }

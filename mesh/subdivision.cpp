@@ -73,12 +73,11 @@ RefinedInstance refine(const MeshInstance& instance, double patchSizeM, double e
     return r;
 }
 
-// Separately meshed surfaces that touch along an edge (two walls meeting at a corner) are bisected independently,
-// so one side's vertices fall mid-edge on the other: T-junctions. Rasterizers leave sub-pixel cracks along
-// them, and a hemicube looking into the corner sees through (measured: a 1 mm wall leaked 2.9e-4 of a pixel's
-// weight into the next room). Splitting every boundary edge at the other surfaces' boundary vertices that lie on
-// it makes the shared edges identical on both sides. Vertices mid-face (a wall standing on a floor) are not
-// handled here.
+// Separately meshed surfaces that touch along an edge (two walls of different sizes meeting at a corner) are
+// bisected independently, so one side's vertices fall mid-edge on the other: T-junctions, along which
+// rasterizers may leave sub-pixel cracks for a hemicube to see through. Splitting every boundary edge at the
+// other surfaces' boundary vertices that lie on it makes the shared edges identical on both sides. Vertices
+// mid-face (a wall standing on a floor) are not handled here.
 std::size_t conformBoundaries(std::vector<RefinedInstance>& parts, double tolM, double cellM) {
     struct BoundaryVertex {
         glm::dvec3 p;

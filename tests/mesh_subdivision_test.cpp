@@ -1,5 +1,7 @@
 // Patches and elements: conforming bisection preserves area, bounds edge lengths, and keeps each patch's
 // elements contiguous; emitters are finer; double-sided surfaces get a back copy.
+#include <set>
+
 #include <gtest/gtest.h>
 
 #include "mesh/scene_builder.h"
@@ -110,4 +112,24 @@ TEST(Subdivision, FarFromOriginKeepsGeometry) {
 TEST(Subdivision, InvalidSettingsAreRejected) {
     EXPECT_THROW(subdivide(roomWithLamp(), {0.0, 0.1, 0.0}), std::invalid_argument);
     EXPECT_THROW(subdivide(roomWithLamp(), {0.5, -1.0, 0.0}), std::invalid_argument);
+}
+
+// Two squares of different sizes sharing part of an edge at a right angle: without conforming, each side's
+// bisection vertices would fall mid-edge on the other (T-junctions).
+TEST(Subdivision, TouchingBoundariesConform) {
+    SceneBuilder b("corner");
+    const int m = b.addMaterial(glm::vec3(0.5f));
+    b.addQuad({0, 0, 0}, {0, 0, 3}, {3, 0, 3}, {3, 0, 0}, m, "floor 3 m");   // edge x = 0 spans z ∈ [0, 3]
+    b.addQuad({0, 0, 0}, {0, 1, 0}, {0, 1, 2}, {0, 0, 2}, m, "wall 2 m");    // edge y = 0 spans z ∈ [0, 2]
+    const PatchMesh pm = subdivide(b.build(), {0.7, 0.7, 0.0});
+    // Every vertex on the shared line (x = 0, y = 0, z ≤ 2) must be a vertex of both instances.
+    std::set<long> zOf[2];
+    for (std::size_t e = 0; e < pm.elements.size(); ++e)
+        for (std::uint32_t v : pm.elements.triangles[e]) {
+            const glm::dvec3& p = pm.elements.vertices[v];
+            if (std::abs(p.x) < 1e-12 && std::abs(p.y) < 1e-12 && p.z <= 2.0 + 1e-12)
+                zOf[pm.elements.instance[e]].insert(std::lround(p.z * 1e9));
+        }
+    EXPECT_GT(zOf[0].size(), 2u);
+    EXPECT_EQ(zOf[0], zOf[1]);
 }

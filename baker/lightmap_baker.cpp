@@ -1,0 +1,243 @@
+#include "baker/lightmap_baker.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <tbb/parallel_for.h>
+
+#include "baker/direct_light.h"
+#include "baker/element_interpolation.h"
+#include "baker/embree_scene.h"
+#include "baker/gatherer.h"
+#include "raster/hemicube_pool.h"
+
+namespace hemibake {
+
+namespace {
+
+double channelSum(const glm::dvec3& v) { return v.x + v.y + v.z; }
+
+// One atlas's texels on its grid, for neighbour lookups.
+struct TexelGrid {
+    const AtlasTexels& t;
+    std::vector<std::int32_t> at;  // size² → texel index or -1
+    explicit TexelGrid(const AtlasTexels& texels) : t(texels), at(std::size_t(texels.size) * std::size_t(texels.size), -1) {
+        for (std::size_t i = 0; i < t.count(); ++i) at[std::size_t(t.y[i]) * std::size_t(t.size) + t.x[i]] = std::int32_t(i);
+    }
+    std::int32_t find(int x, int y) const {
+        if (x < 0 || y < 0 || x >= t.size || y >= t.size) return -1;
+        return at[std::size_t(y) * std::size_t(t.size) + std::size_t(x)];
+    }
+};
+
+// Neighbours can stand in for each other only on one continuous piece of surface: same instance, similar
+// normal, and as far apart in the world as in the atlas (a chart boundary breaks that).
+bool continuous(const AtlasTexels& t, std::size_t a, std::size_t b, double maxDistanceM) {
+    return t.instance[a] == t.instance[b] && glm::dot(t.normal[a], t.normal[b]) > 0.9f &&
+           glm::length(t.position[a] - t.position[b]) <= maxDistanceM;
+}
+
+// Elias-style adaptive placement over one atlas. `gather` renders a list of texels; returns rendered count.
+void placeAdaptively(const AtlasTexels& texels, const LightmapSettings& ls, double texelSizeM,
+                     const std::function<void(const std::vector<std::uint32_t>&, std::vector<glm::dvec3>&,
+                                              std::vector<float>&)>& gather,
+                     std::vector<glm::dvec3>& value, std::vector<std::uint8_t>& invalid, LightmapStats& stats,
+                     const std::function<void(std::size_t)>& advanced) {
+    const TexelGrid grid(texels);
+    const std::size_t n = texels.count();
+    value.assign(n, glm::dvec3(0.0));
+    invalid.assign(n, 0);
+    std::vector<std::uint8_t> done(n, 0);
+    int coarse = 1;
+    while (coarse * 2 <= std::max(ls.latticeStep, 1)) coarse *= 2;
+    double floor = 0.0;  // absolute agreement floor, from the coarse level's mean
+    std::vector<std::uint32_t> batch;
+    std::vector<glm::dvec3> gathered;
+    std::vector<float> backface;
+    for (int step = coarse; step >= 1; step /= 2) {
+        batch.clear();
+        const double reach = 1.5 * std::sqrt(2.0) * step * texelSizeM;
+        for (std::size_t i = 0; i < n; ++i) {
+            const int x = texels.x[i], y = texels.y[i];
+            if (done[i] || x % step || y % step) continue;
+            if (step == coarse) {
+                batch.push_back(std::uint32_t(i));
+                continue;
+            }
+            const bool oddX = (x / step) % 2 == 1, oddY = (y / step) % 2 == 1;
+            int offsets[4][2];
+            int count = 0;
+            if (oddX && !oddY) { offsets[0][0] = -step; offsets[0][1] = 0; offsets[1][0] = step; offsets[1][1] = 0; count = 2; }
+            else if (!oddX && oddY) { offsets[0][0] = 0; offsets[0][1] = -step; offsets[1][0] = 0; offsets[1][1] = step; count = 2; }
+            else {
+                for (int k = 0; k < 4; ++k) { offsets[k][0] = (k & 1) ? step : -step; offsets[k][1] = (k & 2) ? step : -step; }
+                count = 4;
+            }
+            bool ok = true;
+            glm::dvec3 sum(0.0);
+            double lo = 1e300, hi = -1e300;
+            for (int k = 0; k < count && ok; ++k) {
+                const std::int32_t j = grid.find(x + offsets[k][0], y + offsets[k][1]);
+                ok = j >= 0 && done[std::size_t(j)] && !invalid[std::size_t(j)] && continuous(texels, i, std::size_t(j), reach);
+                if (!ok) break;
+                sum += value[std::size_t(j)];
+                const double s = channelSum(value[std::size_t(j)]);
+                lo = std::min(lo, s);
+                hi = std::max(hi, s);
+            }
+            if (ok && hi - lo <= ls.interpolationTolerance * (hi + floor)) {
+                value[i] = sum / double(count);
+                done[i] = 1;
+                ++stats.interpolated;
+            } else {
+                batch.push_back(std::uint32_t(i));
+            }
+        }
+        gather(batch, gathered, backface);
+        for (std::size_t k = 0; k < batch.size(); ++k) {
+            value[batch[k]] = gathered[k];
+            invalid[batch[k]] = backface[k] > ls.invalidBackfaceFraction;
+            done[batch[k]] = 1;
+        }
+        stats.rendered += batch.size();
+        if (step == coarse && !batch.empty()) {
+            double mean = 0.0;
+            for (const glm::dvec3& g : gathered) mean += channelSum(g);
+            floor = 0.01 * mean / double(batch.size());
+        }
+        advanced(batch.size());
+    }
+}
+
+// Texels inside geometry saw mostly back faces: take the mean of valid continuous neighbours (a few rings).
+void refillInvalid(const AtlasTexels& texels, double texelSizeM, std::vector<glm::dvec3>& value,
+                   std::vector<std::uint8_t>& invalid) {
+    const TexelGrid grid(texels);
+    for (int ring = 0; ring < 4; ++ring) {
+        std::vector<std::pair<std::size_t, glm::dvec3>> fixes;
+        for (std::size_t i = 0; i < texels.count(); ++i) {
+            if (!invalid[i]) continue;
+            glm::dvec3 sum(0.0);
+            int count = 0;
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    const std::int32_t j = grid.find(texels.x[i] + dx, texels.y[i] + dy);
+                    if (j < 0 || invalid[std::size_t(j)] || !continuous(texels, i, std::size_t(j), 3.0 * texelSizeM)) continue;
+                    sum += value[std::size_t(j)];
+                    ++count;
+                }
+            if (count) fixes.emplace_back(i, sum / double(count));
+        }
+        if (fixes.empty()) break;
+        for (const auto& [i, v] : fixes) {
+            value[i] = v;
+            invalid[i] = 0;
+        }
+    }
+}
+
+}  // namespace
+
+std::size_t dilate(LightmapImage& image, int iterations) {
+    std::size_t filled = 0;
+    const int s = image.size;
+    for (int it = 0; it < iterations; ++it) {
+        std::vector<std::pair<std::size_t, glm::vec3>> fills;
+        for (int y = 0; y < s; ++y)
+            for (int x = 0; x < s; ++x) {
+                if (image.state[image.index(x, y)] != TexelState::Empty) continue;
+                glm::vec3 sum(0.0f);
+                int count = 0;
+                for (int dy = -1; dy <= 1; ++dy)
+                    for (int dx = -1; dx <= 1; ++dx) {
+                        const int nx = x + dx, ny = y + dy;
+                        if (nx < 0 || ny < 0 || nx >= s || ny >= s) continue;
+                        if (image.state[image.index(nx, ny)] == TexelState::Empty) continue;
+                        sum += image.irradianceOverPi[image.index(nx, ny)];
+                        ++count;
+                    }
+                if (count) fills.emplace_back(image.index(x, y), sum / float(count));
+            }
+        for (const auto& [i, v] : fills) {
+            image.irradianceOverPi[i] = v;
+            image.state[i] = TexelState::Dilated;
+        }
+        filled += fills.size();
+    }
+    return filled;
+}
+
+std::vector<LightmapImage> bakeLightmaps(const Scene& scene, const PatchMesh& mesh, const RadiositySolution& solution,
+                                         const UvAtlas& atlas, const std::vector<AtlasTexels>& texels, HemicubePool& pool,
+                                         const EmbreeScene& rays, const BakeSettings& settings, LightmapStats& stats,
+                                         const LightmapProgress& progress) {
+    const LightmapSettings& ls = settings.lightmap;
+    std::vector<LightmapImage> images(texels.size());
+    std::size_t total = 0, done = 0;
+    for (const AtlasTexels& t : texels) total += t.count();
+    stats.texels = total;
+    const double texelSizeM = atlas.texelsPerUnit > 0.0 ? 1.0 / atlas.texelsPerUnit : 0.0;
+
+    std::unique_ptr<DirectLight> direct;
+    if (!scene.lights.empty()) {
+        DirectLightSettings ds;
+        ds.sunAngularDiameterRad = settings.lighting.sunAngularDiameterRad;
+        direct = std::make_unique<DirectLight>(scene, rays, ds);
+    }
+    std::vector<glm::vec3> radiance(mesh.elements.size());
+    std::vector<glm::dvec3> displayIrradiance(mesh.elements.size());
+    for (std::size_t e = 0; e < mesh.elements.size(); ++e) {
+        radiance[e] = glm::vec3(solution.displayRadiosity(mesh, e) / M_PI);
+        displayIrradiance[e] = solution.displayIrradiance(e);
+    }
+    Gatherer gatherer(pool, settings.solver.seed ^ 0x5EEDull);
+    if (ls.mode == TexelMode::Gather) gatherer.setElementRadiance(radiance);
+    const ElementInterpolator interpolator(mesh, displayIrradiance);
+
+    for (std::size_t a = 0; a < texels.size(); ++a) {
+        const AtlasTexels& t = texels[a];
+        LightmapImage& image = images[a];
+        image.resize(t.size);
+        std::vector<glm::dvec3> value;
+        std::vector<std::uint8_t> invalid(t.count(), 0);
+        if (ls.mode == TexelMode::Gather) {
+            auto gather = [&](const std::vector<std::uint32_t>& ids, std::vector<glm::dvec3>& out, std::vector<float>& backface) {
+                std::vector<GatherPoint> points(ids.size());
+                for (std::size_t k = 0; k < ids.size(); ++k) points[k] = {t.position[ids[k]], t.normal[ids[k]]};
+                gatherer.gather(points, settings.lighting.skyRadiance, a + 1, out, &backface);
+            };
+            placeAdaptively(t, ls, texelSizeM, gather, value, invalid, stats, [&](std::size_t k) {
+                done += k;
+                if (progress) progress(done, total);
+            });
+            stats.invalid += std::size_t(std::count(invalid.begin(), invalid.end(), 1));
+            refillInvalid(t, texelSizeM, value, invalid);
+            if (direct) {
+                // Punctual lights at every texel: their shadows are as sharp as the texel grid allows.
+                tbb::parallel_for(std::size_t(0), t.count(), [&](std::size_t i) {
+                    value[i] += direct->irradianceOverPiAt(t.position[i], t.normal[i], std::uint32_t(i * 2654435761u + a));
+                });
+            }
+        } else {
+            value.assign(t.count(), glm::dvec3(0.0));
+            const auto& inst = scene.instances;
+            tbb::parallel_for(std::size_t(0), t.count(), [&](std::size_t i) {
+                const SurfaceMesh& m = inst[std::size_t(t.instance[i])].mesh;
+                const auto sourceFace = std::uint32_t(m.sourceFace(SurfaceMesh::FaceHandle(t.face[i])));
+                const auto e = interpolator.locate(std::uint32_t(t.instance[i]), sourceFace, t.position[i]);
+                if (e) value[i] = interpolator.valueAt(*e, t.position[i]) / M_PI;
+            });
+            done += t.count();
+            if (progress) progress(done, total);
+        }
+        for (std::size_t i = 0; i < t.count(); ++i) {
+            const std::size_t px = image.index(t.x[i], t.y[i]);
+            image.irradianceOverPi[px] = glm::vec3(value[i]);
+            image.state[px] = TexelState::Covered;
+        }
+        stats.dilated += dilate(image, ls.dilationTexels);
+    }
+    return images;
+}
+
+}  // namespace hemibake
