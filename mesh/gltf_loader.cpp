@@ -322,6 +322,7 @@ private:
         auto makeVertex = [&](std::uint32_t i) {
             const glm::dvec3 p = glm::dvec3(world * glm::dvec4(pos[3 * i], pos[3 * i + 1], pos[3 * i + 2], 1.0));
             auto v = mesh.add_vertex({p.x, p.y, p.z});
+            mesh.sourceVertex(v) = int(i);
             if (!normals.empty()) {
                 glm::dvec3 n = normalMatrix * glm::dvec3(normals[3 * i], normals[3 * i + 1], normals[3 * i + 2]);
                 const double len = glm::length(n);

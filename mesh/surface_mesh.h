@@ -26,6 +26,7 @@ public:
         add_property(materialProp, "hemibake:material");
         add_property(instanceProp, "hemibake:instance");
         add_property(sourceFaceProp, "hemibake:source_face");
+        add_property(sourceVertexProp, "hemibake:source_vertex");
     }
     SurfaceMesh(const SurfaceMesh&) = default;
     SurfaceMesh(SurfaceMesh&&) = default;
@@ -42,6 +43,11 @@ public:
     int& sourceFace(FaceHandle f) { return property(sourceFaceProp, f); }
     int sourceFace(FaceHandle f) const { return property(sourceFaceProp, f); }
 
+    // Index of the glTF vertex (in the primitive's accessors) this vertex was made from, for writing results back.
+    // A glTF vertex may have several SurfaceMesh vertices (non-manifold sheets); each has one glTF vertex.
+    int& sourceVertex(VertexHandle v) { return property(sourceVertexProp, v); }
+    int sourceVertex(VertexHandle v) const { return property(sourceVertexProp, v); }
+
     double faceArea(FaceHandle f) const;
 
 private:
@@ -49,6 +55,7 @@ private:
     OpenMesh::FPropHandleT<int> materialProp;
     OpenMesh::FPropHandleT<int> instanceProp;
     OpenMesh::FPropHandleT<int> sourceFaceProp;
+    OpenMesh::VPropHandleT<int> sourceVertexProp;
 };
 
 }  // namespace hemibake

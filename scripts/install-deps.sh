@@ -16,3 +16,17 @@ if [ ${#missing[@]} -gt 0 ]; then
   $SUDO apt-get update -qq
   DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
 fi
+
+# The Khronos glTF validator (npm package), which tests run on every glb hemibake writes
+# (scripts/validate-gltf.mjs). Installed into tools/node_modules (git-ignored) with the machine's Node.js.
+GLTF_VALIDATOR_VERSION="2.0.0-dev.3.10"
+cd "$(dirname "$0")/.."
+if command -v node >/dev/null 2>&1 && command -v npm >/dev/null 2>&1; then
+  installed="$(node -p "require('./tools/node_modules/gltf-validator/package.json').version" 2>/dev/null || true)"
+  if [ "$installed" != "$GLTF_VALIDATOR_VERSION" ]; then
+    mkdir -p tools
+    npm install --prefix tools --no-save --no-audit --no-fund --loglevel=error "gltf-validator@$GLTF_VALIDATOR_VERSION"
+  fi
+else
+  echo "install-deps: node/npm not found; the glTF validator is not installed and glb validation tests will be skipped" >&2
+fi
