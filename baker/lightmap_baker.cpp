@@ -56,7 +56,7 @@ void placeAdaptively(const AtlasTexels& texels, const LightmapSettings& ls, doub
     std::vector<float> backface;
     for (int step = coarse; step >= 1; step /= 2) {
         batch.clear();
-        const double reach = 1.5 * std::sqrt(2.0) * step * texelSizeM;
+        const double reach = 1.5 * std::sqrt(2.0) * step * texelSizeM;  // world distance of a lattice neighbour
         for (std::size_t i = 0; i < n; ++i) {
             const int x = texels.x[i], y = texels.y[i];
             if (done[i] || x % step || y % step) continue;
@@ -64,29 +64,43 @@ void placeAdaptively(const AtlasTexels& texels, const LightmapSettings& ls, doub
                 batch.push_back(std::uint32_t(i));
                 continue;
             }
+            // Interpolate when the light is locally linear: on an edge midpoint, linear and cubic interpolation
+            // from the four lattice points on its line agree; at a cell centre, the two diagonals agree. Both
+            // measure curvature, so smooth gradients interpolate while shadow edges and corners get hemicubes.
             const bool oddX = (x / step) % 2 == 1, oddY = (y / step) % 2 == 1;
-            int offsets[4][2];
-            int count = 0;
-            if (oddX && !oddY) { offsets[0][0] = -step; offsets[0][1] = 0; offsets[1][0] = step; offsets[1][1] = 0; count = 2; }
-            else if (!oddX && oddY) { offsets[0][0] = 0; offsets[0][1] = -step; offsets[1][0] = 0; offsets[1][1] = step; count = 2; }
-            else {
-                for (int k = 0; k < 4; ++k) { offsets[k][0] = (k & 1) ? step : -step; offsets[k][1] = (k & 2) ? step : -step; }
-                count = 4;
+            auto valueAt = [&](int dx, int dy, glm::dvec3& v) {
+                const std::int32_t j = grid.find(x + dx, y + dy);
+                if (j < 0 || !done[std::size_t(j)] || invalid[std::size_t(j)] || !continuous(texels, i, std::size_t(j), 3.0 * reach))
+                    return false;
+                v = value[std::size_t(j)];
+                return true;
+            };
+            bool ok = false;
+            glm::dvec3 estimate(0.0);
+            double curvature = 0.0, scale = 0.0;
+            if (oddX != oddY) {
+                const int ux = oddX ? step : 0, uy = oddY ? step : 0;
+                glm::dvec3 b, c, a, d;
+                if (valueAt(-ux, -uy, b) && valueAt(ux, uy, c)) {
+                    ok = true;
+                    estimate = 0.5 * (b + c);
+                    scale = std::max(channelSum(b), channelSum(c));
+                    if (valueAt(-3 * ux, -3 * uy, a) && valueAt(3 * ux, 3 * uy, d))
+                        curvature = std::abs(channelSum(-a + b + c - d)) / 16.0;  // |cubic − linear| midpoint estimate
+                    else
+                        curvature = std::abs(channelSum(b - c));  // at a chart edge: fall back to plain agreement
+                }
+            } else {
+                glm::dvec3 c00, c10, c01, c11;
+                if (valueAt(-step, -step, c00) && valueAt(step, -step, c10) && valueAt(-step, step, c01) && valueAt(step, step, c11)) {
+                    ok = true;
+                    estimate = 0.25 * (c00 + c10 + c01 + c11);
+                    scale = std::max({channelSum(c00), channelSum(c10), channelSum(c01), channelSum(c11)});
+                    curvature = std::abs(channelSum(c00 + c11 - c10 - c01)) / 2.0;
+                }
             }
-            bool ok = true;
-            glm::dvec3 sum(0.0);
-            double lo = 1e300, hi = -1e300;
-            for (int k = 0; k < count && ok; ++k) {
-                const std::int32_t j = grid.find(x + offsets[k][0], y + offsets[k][1]);
-                ok = j >= 0 && done[std::size_t(j)] && !invalid[std::size_t(j)] && continuous(texels, i, std::size_t(j), reach);
-                if (!ok) break;
-                sum += value[std::size_t(j)];
-                const double s = channelSum(value[std::size_t(j)]);
-                lo = std::min(lo, s);
-                hi = std::max(hi, s);
-            }
-            if (ok && hi - lo <= ls.interpolationTolerance * (hi + floor)) {
-                value[i] = sum / double(count);
+            if (ok && curvature <= ls.interpolationTolerance * (scale + floor)) {
+                value[i] = estimate;
                 done[i] = 1;
                 ++stats.interpolated;
             } else {
@@ -235,7 +249,6 @@ std::vector<LightmapImage> bakeLightmaps(const Scene& scene, const PatchMesh& me
             image.irradianceOverPi[px] = glm::vec3(value[i]);
             image.state[px] = TexelState::Covered;
         }
-        stats.dilated += dilate(image, ls.dilationTexels);
     }
     return images;
 }

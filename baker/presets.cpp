@@ -17,10 +17,12 @@ struct PresetTable {
 };
 
 constexpr PresetTable kPresets[] = {
-    {"draft", 1.0 / 8, 1.0 / 2, 64, 1e-2, 0, 0, "coarse patches, R=64 hemicubes, 1% unshot bound, no final gather"},
-    {"medium", 1.0 / 16, 1.0 / 2, 128, 1e-3, 1, 1, "patches ~diagonal/16, R=128, 0.1% unshot bound, one gather sweep, one adaptive level"},
-    {"high", 1.0 / 32, 1.0 / 2, 256, 1e-3, 1, 2, "patches ~diagonal/32, R=256, 0.1% unshot bound, one gather sweep, two adaptive levels"},
-    {"ultra", 1.0 / 48, 1.0 / 2, 256, 1e-4, 2, 2, "patches ~diagonal/48, R=256, 0.01% unshot bound, two gather sweeps, two adaptive levels"},
+    // gatherSweeps are element-level sweeps; presets that gather at every lightmap texel need none (the texel
+    // gather is the final gather of the hybrid solver).
+    {"draft", 1.0 / 6, 1.0 / 2, 64, 1e-2, 0, 0, "patches ~diagonal/6, R=64, 1% unshot bound, texels from elements"},
+    {"medium", 1.0 / 8, 1.0 / 2, 128, 1e-3, 0, 0, "patches ~diagonal/8, R=128, 0.1% unshot bound, adaptive texel gather"},
+    {"high", 1.0 / 12, 1.0 / 2, 256, 1e-3, 0, 1, "patches ~diagonal/12, R=256, 0.1% bound, one adaptive level, texel gather"},
+    {"ultra", 1.0 / 16, 1.0 / 2, 256, 1e-4, 0, 2, "patches ~diagonal/16, R=256, 0.01% bound, two adaptive levels, texel gather"},
 };
 }  // namespace
 
@@ -44,7 +46,7 @@ BakeSettings presetSettings(const std::string& name, double sceneDiagonalM) {
         s.solver.hemicubeResolution = p.hemicubeResolution;
         s.solver.epsilon = p.epsilon;
         s.solver.gatherSweeps = p.gatherSweeps;
-        s.solver.kind = p.gatherSweeps > 0 ? SolverKind::Hybrid : SolverKind::Shoot;
+        s.solver.kind = SolverKind::Hybrid;
         s.adaptive.levels = p.adaptiveLevels;
         // The draft preset fills texels from the element solution; the others gather at every texel that needs it.
         s.lightmap.mode = std::string(p.name) == "draft" ? TexelMode::Interpolate : TexelMode::Gather;

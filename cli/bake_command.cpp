@@ -14,6 +14,7 @@
 #include "baker/exr_io.h"
 #include "baker/gltf_writer.h"
 #include "baker/lightmap_baker.h"
+#include "baker/lightmap_seams.h"
 #include "baker/png_preview.h"
 #include "baker/embree_scene.h"
 #include "baker/presets.h"
@@ -159,11 +160,14 @@ int runBake(const BakeOptions& o) {
     const std::vector<AtlasTexels> texels = computeTexels(scene, atlas);
     report.timings.push_back({"unwrap", clock.lap()});
     LightmapStats lightmapStats;
-    const std::vector<LightmapImage> images = bakeLightmaps(
+    std::vector<LightmapImage> images = bakeLightmaps(
         scene, bake.mesh, bake.solution, atlas, texels, *bake.pool, rays, settings, lightmapStats,
         [&](std::size_t done, std::size_t total) {
             progress.update("lightmaps: " + std::to_string(done) + " / " + std::to_string(total) + " texels");
         });
+    // Seams first, so the padding that dilation fills sees the stitched values.
+    const SeamStats seams = stitchSeams(scene, atlas, images, settings.lightmap.stitchSeams);
+    for (LightmapImage& image : images) lightmapStats.dilated += dilate(image, settings.lightmap.dilationTexels);
     report.timings.push_back({"lightmaps", clock.lap()});
     GltfWriteOptions gltfOptions;
     gltfOptions.mode = *parseGltfMode(o.gltfMode);
@@ -196,9 +200,17 @@ int runBake(const BakeOptions& o) {
                                 {"invalidTexels", lightmapStats.invalid},
                                 {"dilationTexels", settings.lightmap.dilationTexels},
                                 {"dilatedTexels", lightmapStats.dilated},
-                                {"charts", atlas.stats.charts}};
+                                {"charts", atlas.stats.charts},
+                                {"seams", {{"edges", seams.seamEdges},
+                                           {"samples", seams.samples},
+                                           {"stitched", settings.lightmap.stitchSeams},
+                                           {"maxRelativeBefore", seams.maxRelativeBefore},
+                                           {"maxRelativeAfter", seams.maxRelativeAfter},
+                                           {"meanRelativeBefore", seams.meanRelativeBefore},
+                                           {"meanRelativeAfter", seams.meanRelativeAfter}}}};
     progress.finish("lightmaps: " + std::to_string(images.size()) + " atlas(es), " + std::to_string(lightmapStats.texels) +
-                    " texels, " + percent(lightmapStats.renderedFraction()) + " rendered by hemicube");
+                    " texels, " + percent(lightmapStats.renderedFraction()) + " rendered by hemicube, max seam step " +
+                    percent(seams.maxRelativeBefore) + " -> " + percent(seams.maxRelativeAfter));
 
     report.peakMemoryMiB = peakResidentMemoryMiB();
     writeTextAtomically(out / "bake.json", report.toJson().dump(2) + "\n");
