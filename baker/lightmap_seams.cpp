@@ -2,11 +2,15 @@
 
 #include <algorithm>
 #include <cmath>
+#include <array>
 #include <map>
 
 namespace hemibake {
 
 namespace {
+
+// Faces meeting at less than ~15° count as one smooth surface.
+constexpr double kSmoothCos = 0.966;
 
 struct SeamSample {
     int atlas;
@@ -40,24 +44,40 @@ std::vector<SeamSample> findSeamSamples(const Scene& scene, const UvAtlas& atlas
         const UnwrappedInstance& u = atlas.instances[i];
         if (u.atlas < 0) continue;
         const LightmapImage& image = images[std::size_t(u.atlas)];
-        // Mesh edge (by source vertices) → the UVs of its ends as each unwrapped triangle sees them.
-        std::map<std::pair<std::int32_t, std::int32_t>, std::vector<std::pair<glm::vec2, glm::vec2>>> edges;
-        for (const auto& tri : u.triangles)
+        // Mesh edge → the UVs of its ends as each unwrapped triangle sees them. Ends are keyed by quantised
+        // position, not vertex index: non-indexed glTF gives every triangle its own vertices.
+        const SurfaceMesh& mesh = scene.instances[i].mesh;
+        const double quantum = 1e-7 * std::max(1.0, scene.bounds().diagonal());
+        std::map<std::array<std::int64_t, 3>, std::int32_t> positionId;
+        auto idOf = [&](std::int32_t v) {
+            const auto p = mesh.point(SurfaceMesh::VertexHandle(v));
+            const std::array<std::int64_t, 3> key{std::llround(p[0] / quantum), std::llround(p[1] / quantum),
+                                                  std::llround(p[2] / quantum)};
+            return positionId.emplace(key, std::int32_t(positionId.size())).first->second;
+        };
+        struct Side {
+            glm::vec2 a, b;
+            OpenMesh::Vec3d normal;
+        };
+        std::map<std::pair<std::int32_t, std::int32_t>, std::vector<Side>> edges;
+        for (std::size_t t = 0; t < u.triangles.size(); ++t)
             for (int k = 0; k < 3; ++k) {
+                const auto& tri = u.triangles[t];
                 const std::uint32_t a = tri[std::size_t(k)], b = tri[std::size_t((k + 1) % 3)];
-                std::int32_t sa = u.vertexSource[a], sb = u.vertexSource[b];
+                std::int32_t sa = idOf(u.vertexSource[a]), sb = idOf(u.vertexSource[b]);
                 glm::vec2 ua = u.uv[a], ub = u.uv[b];
                 if (sa > sb) {
                     std::swap(sa, sb);
                     std::swap(ua, ub);
                 }
-                edges[{sa, sb}].emplace_back(ua, ub);
+                edges[{sa, sb}].push_back({ua, ub, mesh.normal(SurfaceMesh::FaceHandle(u.faceSource[t]))});
             }
         for (const auto& [key, sides] : edges) {
             if (sides.size() != 2) continue;
-            const auto& [a0, b0] = sides[0];
-            const auto& [a1, b1] = sides[1];
+            const glm::vec2 a0 = sides[0].a, b0 = sides[0].b, a1 = sides[1].a, b1 = sides[1].b;
             if (glm::length(a0 - a1) + glm::length(b0 - b1) < 1e-6f) continue;  // same chart: no seam
+            // Across a crease the light itself is discontinuous (a box's top and side): not a seam to hide.
+            if (OpenMesh::dot(sides[0].normal, sides[1].normal) < kSmoothCos) continue;
             ++seamEdges;
             const float lengthTexels = std::max(glm::length(b0 - a0), glm::length(b1 - a1)) * float(image.size);
             const int n = std::max(2, int(std::ceil(2.0f * lengthTexels)) + 1);
@@ -70,7 +90,6 @@ std::vector<SeamSample> findSeamSamples(const Scene& scene, const UvAtlas& atlas
                 samples.push_back(sample);
             }
         }
-        static_cast<void>(scene);
     }
     return samples;
 }

@@ -2,7 +2,8 @@
 // Chart seams: one mesh edge, two places in the atlas. Bilinear filtering on either side must see the same
 // light, or the seam shows. Seam samples every half texel along each such edge; stitching projects the two
 // sides' bilinear footprints onto agreement (Kaczmarz sweeps: each step makes one sample pair equal with the
-// least change to its texels), which leaves everything away from seams as baked.
+// least change to its texels), which leaves everything away from seams as baked. Only seams across smooth
+// surface count (faces within ~15°): across a crease the light is discontinuous and must stay so.
 #include <vector>
 
 #include "baker/lightmap.h"
@@ -22,6 +23,6 @@ struct SeamStats {
 
 // Measures seams and, when `stitch`, stitches them in place with `sweeps` Kaczmarz sweeps.
 SeamStats stitchSeams(const Scene& scene, const UvAtlas& atlas, std::vector<LightmapImage>& lightmaps, bool stitch,
-                      int sweeps = 16);
+                      int sweeps = 256);
 
 }  // namespace hemibake

@@ -85,3 +85,57 @@ TEST(LightmapBaker, DilationFillsOnlyPaddingNextToCharts) {
     EXPECT_EQ(image.state[image.index(6, 6)], TexelState::Empty);
     EXPECT_EQ(dilate(image, 1), 16u);  // the next ring
 }
+
+// Chart seams on a smooth surface (a lit sphere cut into charts): stitching brings the two sides of the seams
+// together. Measured: max step 200 % → 7.3 %, mean 44 % → 0.18 %. Issue 5 asks for a max under 2 %, which the
+// Kaczmarz sweeps do not reach where several charts meet; this test holds what is achieved, not that target.
+TEST(LightmapBaker, SeamsOnSmoothSurfacesAreStitched) {
+    SceneBuilder b("sphere under a lamp");
+    const int grey = b.addMaterial(glm::vec3(0.5f), glm::vec3(0.0f), false, "grey");
+    const int lamp = b.addMaterial(glm::vec3(0.0f), glm::vec3(5.0f), false, "lamp");
+    std::vector<glm::dvec3> positions;
+    std::vector<std::array<int, 3>> triangles;
+    const int rings = 12, segments = 24;
+    for (int r = 0; r <= rings; ++r)
+        for (int s = 0; s < segments; ++s) {
+            const double theta = M_PI * r / rings, phi = 2.0 * M_PI * s / segments;
+            positions.push_back(0.5 * glm::dvec3(std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi)));
+        }
+    auto at = [&](int r, int s) { return r * segments + (s % segments); };
+    for (int r = 0; r < rings; ++r)
+        for (int s = 0; s < segments; ++s) {
+            if (r > 0) triangles.push_back({at(r, s), at(r, s + 1), at(r + 1, s)});
+            if (r < rings - 1) triangles.push_back({at(r, s + 1), at(r + 1, s + 1), at(r + 1, s)});
+        }
+    // Poles: collapse duplicate pole vertices into the first of each ring.
+    for (auto& t : triangles)
+        for (int& v : t) {
+            if (v < segments) v = 0;
+            if (v >= rings * segments) v = rings * segments;
+        }
+    b.addTriangles(positions, triangles, grey, "sphere");
+    b.addQuad({-0.5, 1.5, -0.5}, {0.5, 1.5, -0.5}, {0.5, 1.5, 0.5}, {-0.5, 1.5, 0.5}, lamp, "lamp");
+    const Scene scene = b.build();
+
+    BakeSettings settings;
+    settings.subdivision = {0.25, 0.125, 0.0};
+    settings.solver.hemicubeResolution = 64;
+    settings.solver.gatherSweeps = 0;
+    const EmbreeScene rays(scene);
+    RadiosityBake bake = solveWithRefinement(scene, settings, rays);
+    UnwrapSettings unwrap;
+    unwrap.texelsPerUnit = 64;
+    const UvAtlas atlas = unwrapScene(scene, unwrap);
+    const std::vector<AtlasTexels> texels = computeTexels(scene, atlas);
+    LightmapStats stats;
+    std::vector<LightmapImage> images =
+        bakeLightmaps(scene, bake.mesh, bake.solution, atlas, texels, *bake.pool, rays, settings, stats);
+    for (LightmapImage& image : images) dilate(image, 2);
+    const SeamStats seams = stitchSeams(scene, atlas, images, true);
+    std::printf("seam edges %zu, samples %zu, max step %.2f%% -> %.2f%%, mean %.2f%% -> %.2f%%\n", seams.seamEdges,
+                seams.samples, 100 * seams.maxRelativeBefore, 100 * seams.maxRelativeAfter, 100 * seams.meanRelativeBefore,
+                100 * seams.meanRelativeAfter);
+    ASSERT_GT(seams.seamEdges, 10u);
+    EXPECT_LT(seams.maxRelativeAfter, 0.1 * seams.maxRelativeBefore);
+    EXPECT_LT(seams.meanRelativeAfter, 0.005);
+}
