@@ -29,7 +29,7 @@
 namespace hemibake {
 
 struct ChartSettings {
-    double maxNormalDeviationCos = 0.95;  // face normal · chart mean normal must exceed this to join
+    double maxNormalDeviationCos = 0.95;  // face normal · chart mean normal must exceed this to join (≤ −1: no limit)
     double creaseAngleDegrees = 45.0;     // dihedral angles above this always separate charts
     double planarToleranceRad = 1e-3;     // all normals within this angle of the mean → planar chart
     double maxCost = 2.0;
