@@ -50,6 +50,8 @@ TEST_P(Furnace, UniformEmissionGivesLeOverOneMinusRho) {
     const auto solved = solveScene(furnace(rho, le, false), s);
     const glm::dvec3 mean = meanIrradianceOverPi(*solved);
     const double expected = le / (1.0 - double(rho));
+    std::printf("furnace rho %.3f: mean E/pi %.6f, exact %.6f, rel err %+.2e, %llu shots\n", rho, mean.x, expected,
+                mean.x / expected - 1.0, static_cast<unsigned long long>(solved->report.shots));
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(mean[c], expected, tolerance * expected) << "rho " << rho;
     EXPECT_EQ(solved->report.stopReason, "converged");
     EXPECT_LE(solved->report.unshotFraction, s.solver.epsilon);
@@ -67,6 +69,8 @@ TEST(FurnaceExtreme, Rho0999ConvergesWithAmbientCorrection) {
     const glm::dvec3 mean = meanIrradianceOverPi(*solved);
     for (std::size_t e = 0; e < solved->mesh.elements.size(); ++e)
         ASSERT_TRUE(std::isfinite(solved->solution.displayIrradiance(e).x)) << "element " << e;
+    std::printf("furnace rho 0.999, 3000 shots + ambient: mean E/pi %.3f, exact 1000, rel err %+.2e\n", mean.x,
+                mean.x / 1000.0 - 1.0);
     EXPECT_NEAR(mean.x, 1000.0, 0.05 * 1000.0);
     EXPECT_LT(solved->report.unshotFraction, 1.0);  // it made progress, it did not diverge
 }
@@ -82,6 +86,8 @@ TEST(OneEmittingFace, AreaMeanRadiosity) {
             area += solved->mesh.elements.areaM2[e];
         }
         const double expected = (1.0 / 6.0) * exitance / (1.0 - rho);
+        std::printf("one emitting face rho %.2f: area-mean B %.6f, exact %.6f, rel err %+.2e\n", rho, sumBA / area, expected,
+                    sumBA / area / expected - 1.0);
         EXPECT_NEAR(sumBA / area, expected, 0.01 * expected) << "rho " << rho;
     }
 }
@@ -105,6 +111,8 @@ TEST(EnergyBalance, OpenSceneConservesPower) {
     const SolveReport& r = solved->report;
     const glm::dvec3 in = r.emitterPowerW + r.directPowerW;
     const glm::dvec3 out = r.absorbedPowerW + r.escapedPowerW + r.backfacePowerW + r.unshotPowerW;
+    std::printf("energy balance: in %.6f W, out %.6f W (rel %+.2e), escaped %.1f%%\n", in.x, out.x, out.x / in.x - 1.0,
+                100.0 * r.escapedPowerW.x / in.x);
     for (int c = 0; c < 3; ++c) {
         EXPECT_GT(r.escapedPowerW[c], 0.1 * in[c]);
         EXPECT_NEAR(out[c], in[c], 1e-3 * in[c]) << "channel " << c;
