@@ -1,4 +1,5 @@
 #include "baker/direct_light.h"
+#include "mesh/frame_math.h"
 
 #include <algorithm>
 #include <cmath>
@@ -40,15 +41,6 @@ glm::dvec2 concentricDisk(double u, double v) {
     }
     const double phi = M_PI / 2.0 - M_PI / 4.0 * (a / b);
     return {b * std::cos(phi), b * std::sin(phi)};
-}
-
-void orthonormalBasis(const glm::dvec3& n, glm::dvec3& t, glm::dvec3& b) {
-    // Duff et al. 2017, "Building an Orthonormal Basis, Revisited".
-    const double sign = std::copysign(1.0, n.z);
-    const double a = -1.0 / (sign + n.z);
-    const double c = n.x * n.y * a;
-    t = {1.0 + sign * n.x * n.x * a, sign * c, -sign * n.x};
-    b = {c, sign + n.y * n.y * a, -n.y};
 }
 
 }  // namespace

@@ -1,4 +1,5 @@
 #include "baker/path_tracer.h"
+#include "mesh/frame_math.h"
 
 #include <algorithm>
 #include <cmath>
@@ -16,23 +17,7 @@ constexpr EmbreeScene::RayEnds kLifted = EmbreeScene::RayEnds::Lifted;  // every
 // Samples per independent random stream; the unit of parallel work inside one estimate.
 constexpr std::uint32_t kChunkSamples = 256;
 
-std::uint64_t splitMix64(std::uint64_t x) {
-    x += 0x9E3779B97F4A7C15ull;
-    x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
-    x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
-    return x ^ (x >> 31);
-}
-
 double maxComponent(const glm::dvec3& v) { return std::max({v.x, v.y, v.z}); }
-
-void orthonormalBasis(const glm::dvec3& n, glm::dvec3& t, glm::dvec3& b) {
-    // Duff et al. 2017, "Building an Orthonormal Basis, Revisited".
-    const double sign = std::copysign(1.0, n.z);
-    const double a = -1.0 / (sign + n.z);
-    const double c = n.x * n.y * a;
-    t = {1.0 + sign * n.x * n.x * a, sign * c, -sign * n.x};
-    b = {c, sign + n.y * n.y * a, -n.y};
-}
 
 // Malley's method on a concentric disk: pdf = cosθ/π.
 glm::dvec3 cosineDirection(const glm::dvec3& n, double u1, double u2) {

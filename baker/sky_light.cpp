@@ -1,4 +1,5 @@
 #include "baker/sky_light.h"
+#include "mesh/frame_math.h"
 
 #include <cmath>
 
@@ -8,22 +9,10 @@ namespace hemibake {
 
 namespace {
 
-// SplitMix64: a tiny, well-mixed, seedable generator for jitter (reproducible from the seed alone).
+// A SplitMix64 sequence: jitter reproducible from the seed alone.
 double uniform01(std::uint64_t& state) {
-    std::uint64_t z = (state += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    z ^= z >> 31;
-    return double(z >> 11) * 0x1.0p-53;
-}
-
-void orthonormalBasis(const glm::dvec3& n, glm::dvec3& t, glm::dvec3& b) {
-    // Duff et al. 2017: branchless and continuous except at n.z = -1 exactly.
-    const double sign = std::copysign(1.0, n.z);
-    const double a = -1.0 / (sign + n.z);
-    const double c = n.x * n.y * a;
-    t = glm::dvec3(1.0 + sign * n.x * n.x * a, sign * c, -sign * n.x);
-    b = glm::dvec3(c, sign + n.y * n.y * a, -n.y);
+    state += 0x9E3779B97F4A7C15ull;
+    return double(splitMix64(state - 0x9E3779B97F4A7C15ull) >> 11) * 0x1.0p-53;
 }
 
 }  // namespace

@@ -11,5 +11,7 @@ using CommandRunner = std::function<int()>;
 // Registration functions, one per sub-command file.
 CommandRunner addInfoCommand(CLI::App& app);
 CommandRunner addBakeCommand(CLI::App& app);
+CommandRunner addReferenceCommand(CLI::App& app);
+CommandRunner addCompareCommand(CLI::App& app);
 
 }  // namespace hemibake::cli

@@ -20,6 +20,8 @@ int main(int argc, char** argv) {
     };
     add(hemibake::cli::addInfoCommand);
     add(hemibake::cli::addBakeCommand);
+    add(hemibake::cli::addReferenceCommand);
+    add(hemibake::cli::addCompareCommand);
 
     try {
         app.parse(argc, argv);
