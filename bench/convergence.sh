@@ -31,8 +31,13 @@ for scene, label in (("cornell_box", "published reflectances"), ("cornell_rho095
     print(f"{j['counts']['patches']} patches, {j['counts']['elements']} elements; stopped: {c['stopReason']} after "
           f"{c['shots']} shots ({c['hemicubes']} hemicubes), {j['timings']['shoot']:.1f} s shooting.\n")
     print("| shots | seconds | unshot fraction | error bound |\n|---|---|---|---|")
-    for r in c["history"]:
-        print(f"| {r['shots']} | {r['seconds']:.2f} | {r['unshotFraction']:.3e} | {r['errorBound']:.3e} |")
+    import math
+    seen = set()
+    for i, r in enumerate(c["history"]):
+        level = math.floor(-4 * math.log10(max(r["unshotFraction"], 1e-30)))  # quarter-decade milestones
+        if i in (0, len(c["history"]) - 1) or level not in seen:
+            seen.add(level)
+            print(f"| {r['shots']} | {r['seconds']:.2f} | {r['unshotFraction']:.3e} | {r['errorBound']:.3e} |")
     print()
 PY
 echo "wrote docs/convergence.md"
