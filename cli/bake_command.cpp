@@ -222,8 +222,9 @@ int runBake(const BakeOptions& o) {
 
 CommandRunner addBakeCommand(CLI::App& app) {
     auto o = std::make_shared<BakeOptions>();
-    CLI::App* cmd = app.add_subcommand("bake", "Solve the radiosity of a glTF scene and write the bake to OUT/ "
-                                               "(bake.json: settings, timings, convergence history, power ledger)");
+    CLI::App* cmd = app.add_subcommand("bake", "Solve the radiosity of a glTF scene and write the bake to OUT/: <scene>.glb with "
+                                               "lightmaps, lightmaps/*.exr (E/π per texel), bake.json (settings, timings, "
+                                               "convergence history, power ledger, primitives)");
     cmd->add_option("scene", o->scenePath, "glTF 2.0 scene (.gltf or .glb)")->required();
     cmd->add_option("-o,--output", o->outDir, "Output directory (created if missing; files appear atomically)")->required();
     std::string presetHelp = "Speed/accuracy preset; sizes scale with the scene's bounding-box diagonal:";
@@ -271,10 +272,11 @@ CommandRunner addBakeCommand(CLI::App& app) {
     cmd->add_option("--texel-mode", o->texelMode,
                     "gather: a final hemicube per texel, placed adaptively; interpolate: from the element solution (fast)")
         ->check(CLI::IsMember({"gather", "interpolate"}));
-    cmd->add_option("--lattice", o->lattice, "Adaptive placement: hemicubes on every Nth texel first, midpoints where "
-                                             "neighbours disagree (1 = every texel)")->check(CLI::IsMember({1, 2, 4, 8, 16}));
+    cmd->add_option("--lattice", o->lattice, "Adaptive placement: hemicubes on every Nth texel first, then midpoints only "
+                                             "where the light is not locally linear (1 = every texel)")->check(CLI::IsMember({1, 2, 4, 8, 16}));
     cmd->add_option("--interp-tolerance", o->interpTolerance,
-                    "Adaptive placement: neighbours agreeing within this relative spread are interpolated")
+                    "Adaptive placement: a texel is interpolated when the curvature its lattice neighbours show is "
+                    "below this fraction of their value")
         ->check(CLI::Range(0.0, 1.0));
     cmd->add_option("--uv", o->uvMode, "unwrap: compute lightmap UVs; keep: use TEXCOORD_1 from the scene where present")
         ->capture_default_str()->check(CLI::IsMember({"unwrap", "keep"}));
