@@ -14,6 +14,7 @@ cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DHEMIBAKE_S
 cmake --build build-asan -j"$jobs" --target test_mesh test_cli
 export ASAN_OPTIONS="detect_leaks=1:abort_on_error=0:halt_on_error=1"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
+export LSAN_OPTIONS="suppressions=$PWD/tests/lsan.supp:print_suppressions=0"
 ./build-asan/tests/test_mesh --gtest_brief=1
 ./build-asan/tests/test_cli --gtest_brief=1
 
