@@ -31,18 +31,6 @@ std::uint32_t hash(std::uint32_t a, std::uint32_t b) {
 
 double unitFloat(std::uint32_t bits) { return double(bits >> 8) * (1.0 / 16777216.0); }
 
-// Shirley–Chiu concentric map: keeps the strata of the square as compact regions of the disk.
-glm::dvec2 concentricDisk(double u, double v) {
-    const double a = 2.0 * u - 1.0, b = 2.0 * v - 1.0;
-    if (a == 0.0 && b == 0.0) return {0.0, 0.0};
-    if (std::abs(a) > std::abs(b)) {
-        const double phi = M_PI / 4.0 * (b / a);
-        return {a * std::cos(phi), a * std::sin(phi)};
-    }
-    const double phi = M_PI / 2.0 - M_PI / 4.0 * (a / b);
-    return {b * std::cos(phi), b * std::sin(phi)};
-}
-
 }  // namespace
 
 DirectLight::DirectLight(const Scene& scene, const EmbreeScene& rays, DirectLightSettings settings)

@@ -8,19 +8,10 @@
 #include <OpenImageIO/imageio.h>
 
 #include "baker/atomic_output.h"
+#include "baker/oiio_error.h"
 #include "mesh/errors.h"
 
 namespace hemibake {
-
-namespace {
-
-std::string oiioError(const std::string& specific) {
-    std::string message = specific.empty() ? OIIO::geterror() : specific;
-    while (!message.empty() && (message.back() == '\n' || message.back() == '\r')) message.pop_back();
-    return message.empty() ? "unknown OpenImageIO error" : message;
-}
-
-}  // namespace
 
 void writeLightmapExr(const std::filesystem::path& path, const LightmapImage& image) {
     const std::size_t texels = std::size_t(image.size) * std::size_t(image.size);

@@ -1,4 +1,5 @@
 #include "baker/gltf_writer.h"
+#include "mesh/gltf_loader.h"
 
 #include <algorithm>
 #include <array>
@@ -64,33 +65,11 @@ std::string sniffMimeType(const std::vector<unsigned char>& b) {
     return "";
 }
 
-std::string firstLine(const std::string& text) {
-    std::string line;
-    for (char c : text) {
-        if (c == '\n' || c == '\r') {
-            if (!line.empty()) break;
-            continue;
-        }
-        line += c;
-    }
-    return line.empty() ? "could not be parsed as glTF" : line;
-}
-
 tinygltf::Model loadModel(const std::string& path) {
-    char magic[4] = {0, 0, 0, 0};
-    {
-        std::ifstream in(path, std::ios::binary);
-        if (!in) throw InputError(path, "cannot be opened for reading");
-        in.read(magic, 4);
-    }
-    const bool binary = std::string(magic, 4) == "glTF";
     tinygltf::TinyGLTF loader;
     loader.SetImageLoader(keepEncodedImage, nullptr);
     tinygltf::Model model;
-    std::string err, warn;
-    const bool ok = binary ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
-                           : loader.LoadASCIIFromFile(&model, &err, &warn, path);
-    if (!ok) throw InputError(path, firstLine(err));
+    readTinyGltf(path, loader, model);
     return model;
 }
 

@@ -19,23 +19,6 @@ constexpr std::uint32_t kChunkSamples = 256;
 
 double maxComponent(const glm::dvec3& v) { return std::max({v.x, v.y, v.z}); }
 
-// Malley's method on a concentric disk: pdf = cosθ/π.
-glm::dvec3 cosineDirection(const glm::dvec3& n, double u1, double u2) {
-    const double a = 2.0 * u1 - 1.0, b = 2.0 * u2 - 1.0;
-    double r = 0.0, phi = 0.0;
-    if (std::abs(a) > std::abs(b)) {
-        r = a;
-        phi = M_PI / 4.0 * (b / a);
-    } else if (b != 0.0) {
-        r = b;
-        phi = M_PI / 2.0 - M_PI / 4.0 * (a / b);
-    }
-    glm::dvec3 t, bt;
-    orthonormalBasis(n, t, bt);
-    const double z = std::sqrt(std::max(0.0, 1.0 - r * r));
-    return glm::normalize(r * std::cos(phi) * t + r * std::sin(phi) * bt + z * n);
-}
-
 // Welford accumulation, merged with Chan et al.'s formula so chunk results combine in a fixed order.
 struct RunningStats {
     double count = 0.0;

@@ -9,16 +9,11 @@
 #include <OpenImageIO/imageio.h>
 
 #include "baker/atomic_output.h"
+#include "baker/oiio_error.h"
 
 namespace hemibake {
 
 namespace {
-
-std::string oiioError(const std::string& specific) {
-    std::string message = specific.empty() ? OIIO::geterror() : specific;
-    while (!message.empty() && (message.back() == '\n' || message.back() == '\r')) message.pop_back();
-    return message.empty() ? "unknown OpenImageIO error" : message;
-}
 
 std::vector<std::uint8_t> nonEmptyMask(const LightmapImage& image) {
     std::vector<std::uint8_t> mask;

@@ -1,5 +1,6 @@
 #pragma once
 // Small shared math for sampling: a tangent frame around a normal, and a seedable integer mixer.
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 
@@ -15,6 +16,27 @@ inline void orthonormalBasis(const glm::dvec3& n, glm::dvec3& t, glm::dvec3& b) 
     const double c = n.x * n.y * a;
     t = {1.0 + sign * n.x * n.x * a, sign * c, -sign * n.x};
     b = {c, sign + n.y * n.y * a, -n.y};
+}
+
+// Shirley–Chiu concentric map of the unit square onto the unit disk: keeps strata compact.
+inline glm::dvec2 concentricDisk(double u, double v) {
+    const double a = 2.0 * u - 1.0, b = 2.0 * v - 1.0;
+    if (a == 0.0 && b == 0.0) return {0.0, 0.0};
+    if (std::abs(a) > std::abs(b)) {
+        const double phi = M_PI / 4.0 * (b / a);
+        return {a * std::cos(phi), a * std::sin(phi)};
+    }
+    const double phi = M_PI / 2.0 - M_PI / 4.0 * (a / b);
+    return {b * std::cos(phi), b * std::sin(phi)};
+}
+
+// Malley's method: a cosine-weighted direction about unit n (pdf = cosθ/π) from a point of the unit square.
+inline glm::dvec3 cosineDirection(const glm::dvec3& n, double u1, double u2) {
+    const glm::dvec2 d = concentricDisk(u1, u2);
+    glm::dvec3 t, b;
+    orthonormalBasis(n, t, b);
+    const double z = std::sqrt(std::max(0.0, 1.0 - glm::dot(d, d)));
+    return glm::normalize(d.x * t + d.y * b + z * n);
 }
 
 // SplitMix64 finalizer: decorrelates seeds (and seeds a stream from any integer).

@@ -385,7 +385,7 @@ private:
 
 }  // namespace
 
-Scene loadGltf(const std::string& path) {
+void readTinyGltf(const std::string& path, tinygltf::TinyGLTF& loader, tinygltf::Model& model) {
     std::error_code ec;
     if (!fs::exists(path, ec)) throw InputError(path, "file not found");
     if (fs::is_directory(path, ec)) throw InputError(path, "is a directory, not a glTF file");
@@ -402,13 +402,16 @@ Scene loadGltf(const std::string& path) {
     if (!binary && magic[0] != '{' && magic[0] != ' ' && magic[0] != '\n' && magic[0] != '\r' && magic[0] != '\t' &&
         static_cast<unsigned char>(magic[0]) != 0xEF)
         throw InputError(path, "not a glTF file (neither JSON nor binary glTF)");
-
-    tinygltf::TinyGLTF loader;
-    tinygltf::Model model;
     std::string err, warnText;
     const bool ok = binary ? loader.LoadBinaryFromFile(&model, &err, &warnText, path)
                            : loader.LoadASCIIFromFile(&model, &err, &warnText, path);
     if (!ok) throw InputError(path, firstLine(err));
+}
+
+Scene loadGltf(const std::string& path) {
+    tinygltf::TinyGLTF loader;
+    tinygltf::Model model;
+    readTinyGltf(path, loader, model);
     if (model.asset.version.rfind("2.", 0) != 0)
         throw InputError(path, "asset version '" + model.asset.version + "' is not glTF 2.x");
     return GltfSceneReader(model, path).read();
