@@ -10,7 +10,6 @@ namespace hemibake {
 
 RadiosityBake::RadiosityBake() = default;
 RadiosityBake::~RadiosityBake() = default;
-RadiosityBake::RadiosityBake(RadiosityBake&&) noexcept = default;
 
 RefinementRequest findRadiosityDiscontinuities(const PatchMesh& mesh, const RadiositySolution& solution, double threshold,
                                                double targetSizeM) {
@@ -57,9 +56,10 @@ RefinementRequest findRadiosityDiscontinuities(const PatchMesh& mesh, const Radi
     return request;
 }
 
-RadiosityBake solveWithRefinement(const Scene& scene, const BakeSettings& settings, const EmbreeScene& rays,
-                                  const SolveProgress& progress) {
-    RadiosityBake bake;
+std::unique_ptr<RadiosityBake> solveWithRefinement(const Scene& scene, const BakeSettings& settings,
+                                                   const EmbreeScene& rays, const SolveProgress& progress) {
+    auto owned = std::make_unique<RadiosityBake>();
+    RadiosityBake& bake = *owned;
     bake.mesh = subdivide(scene, settings.subdivision);
     bake.elementsBeforeRefinement = bake.mesh.elements.size();
     bake.pool = std::make_unique<HemicubePool>(bake.mesh, settings.solver.hemicubeResolution);
@@ -77,7 +77,7 @@ RadiosityBake solveWithRefinement(const Scene& scene, const BakeSettings& settin
         bake.pool = std::make_unique<HemicubePool>(bake.mesh, settings.solver.hemicubeResolution);
         bake.report = solveRadiosity(scene, bake.mesh, settings, *bake.pool, rays, bake.solution, progress);
     }
-    return bake;
+    return owned;
 }
 
 }  // namespace hemibake

@@ -25,11 +25,13 @@ struct RadiosityBake {
     std::size_t refinementRegions = 0;
     RadiosityBake();
     ~RadiosityBake();
-    RadiosityBake(RadiosityBake&&) noexcept;
+    // Pinned: `pool` points at `mesh`, so moving the bake would leave it reading a moved-from mesh.
+    RadiosityBake(const RadiosityBake&) = delete;
+    RadiosityBake& operator=(const RadiosityBake&) = delete;
 };
 
 // Subdivide, solve, and (settings.adaptive.levels > 0) refine and solve again.
-RadiosityBake solveWithRefinement(const Scene& scene, const BakeSettings& settings, const EmbreeScene& rays,
+std::unique_ptr<RadiosityBake> solveWithRefinement(const Scene& scene, const BakeSettings& settings, const EmbreeScene& rays,
                                   const SolveProgress& progress = {});
 
 }  // namespace hemibake

@@ -15,6 +15,7 @@
 #include <tiny_gltf.h>
 
 #include "baker/atomic_output.h"
+#include "baker/exitant_radiance_atlas.h"
 #include "baker/png_preview.h"
 #include "mesh/errors.h"
 #include "mesh/gltf_accessor.h"
@@ -481,94 +482,14 @@ private:
             t.scale = k;
             t.texture = addPngTexture(lightmapToSrgb8(lm, k), lm.size, "hemibake lightmap " + std::to_string(atlas));
         } else {
-            LightmapImage emitted = emissiveImage(atlas);
+            std::vector<int> instances;
+            for (const Baked& b : baked_) instances.push_back(b.instance);
+            LightmapImage emitted = exitantRadianceAtlas(scene_, atlas_, lm, atlas, instances);
             const float k = lightmapExposureScale(emitted);
             t.scale = k;
             t.texture = addPngTexture(lightmapToSrgb8(emitted, k), lm.size, "hemibake emission " + std::to_string(atlas));
         }
         return atlasTextures_.emplace(atlas, t).first->second;
-    }
-
-    // ρ × texel + L_e over an atlas, ρ and L_e from the material of the instance whose unwrapped triangle covers
-    // the texel centre; texels no triangle centre-covers take them from the nearest covered texel (4-neighbour
-    // breadth-first), so chart-edge and dilated texels get their chart's material. Empty texels stay 0.
-    LightmapImage emissiveImage(int atlasIndex) const {
-        const LightmapImage& lm = lightmaps_[std::size_t(atlasIndex)];
-        const int size = lm.size;
-        const std::size_t texels = std::size_t(size) * std::size_t(size);
-        std::vector<glm::vec3> rho(texels, glm::vec3(0.0f));
-        std::vector<std::int32_t> owner(texels, -1);    // instance whose material emits there
-        std::vector<std::uint8_t> assigned(texels, 0);  // 1 raster, 2 spread
-        std::vector<std::uint32_t> queue;               // breadth-first order; every texel enters at most once
-        queue.reserve(texels);
-        for (const Baked& b : baked_) {
-            const UnwrappedInstance& ui = atlas_.instances[std::size_t(b.instance)];
-            if (ui.atlas != atlasIndex) continue;
-            const MeshInstance& inst = scene_.instances[std::size_t(b.instance)];
-            const int material = inst.material;
-            const bool validMaterial = material >= 0 && std::size_t(material) < scene_.materials.size();
-            for (const auto& tri : ui.triangles) {
-                glm::dvec2 p[3];
-                glm::vec2 t0[3];
-                for (int k = 0; k < 3; ++k) {
-                    p[k] = glm::dvec2(ui.uv[tri[std::size_t(k)]]) * double(size);
-                    const auto tc = inst.mesh.texcoord2D(SurfaceMesh::VertexHandle(ui.vertexSource[tri[std::size_t(k)]]));
-                    t0[k] = glm::vec2(tc[0], tc[1]);
-                }
-                const double area = (p[1].x - p[0].x) * (p[2].y - p[0].y) - (p[1].y - p[0].y) * (p[2].x - p[0].x);
-                if (!(std::abs(area) > 1e-12)) continue;
-                const int x0 = std::max(0, int(std::floor(std::min({p[0].x, p[1].x, p[2].x}) - 0.5)));
-                const int x1 = std::min(size - 1, int(std::ceil(std::max({p[0].x, p[1].x, p[2].x}) - 0.5)));
-                const int y0 = std::max(0, int(std::floor(std::min({p[0].y, p[1].y, p[2].y}) - 0.5)));
-                const int y1 = std::min(size - 1, int(std::ceil(std::max({p[0].y, p[1].y, p[2].y}) - 0.5)));
-                for (int y = y0; y <= y1; ++y)
-                    for (int x = x0; x <= x1; ++x) {
-                        const glm::dvec2 c(x + 0.5, y + 0.5);
-                        auto edge = [&](const glm::dvec2& a, const glm::dvec2& e) {
-                            return ((e.x - a.x) * (c.y - a.y) - (e.y - a.y) * (c.x - a.x)) / area;
-                        };
-                        const double w0 = edge(p[1], p[2]), w1 = edge(p[2], p[0]), w2 = 1.0 - w0 - w1;
-                        const double eps = -1e-9;
-                        if (w0 < eps || w1 < eps || w2 < eps) continue;
-                        const std::size_t at = std::size_t(y) * std::size_t(size) + std::size_t(x);
-                        const glm::vec2 uv0 = float(w0) * t0[0] + float(w1) * t0[1] + float(w2) * t0[2];
-                        rho[at] = validMaterial ? scene_.reflectance(material, uv0) : glm::vec3(0.8f);
-                        owner[at] = b.instance;
-                        if (!assigned[at]) queue.push_back(std::uint32_t(at));
-                        assigned[at] = 1;
-                    }
-            }
-        }
-        for (std::size_t head = 0; head < queue.size(); ++head) {
-            const std::size_t at = queue[head];
-            const int x = int(at % std::size_t(size)), y = int(at / std::size_t(size));
-            const int nx[4] = {x - 1, x + 1, x, x}, ny[4] = {y, y, y - 1, y + 1};
-            for (int n = 0; n < 4; ++n) {
-                if (nx[n] < 0 || ny[n] < 0 || nx[n] >= size || ny[n] >= size) continue;
-                const std::size_t to = std::size_t(ny[n]) * std::size_t(size) + std::size_t(nx[n]);
-                if (assigned[to]) continue;
-                assigned[to] = 2;
-                rho[to] = rho[at];
-                owner[to] = owner[at];
-                queue.push_back(std::uint32_t(to));
-            }
-        }
-        LightmapImage out;
-        out.resize(size);
-        const bool haveState = lm.state.size() == texels;
-        for (std::size_t t = 0; t < texels; ++t) {
-            const bool covered = assigned[t] == 1 || !haveState || lm.state[t] != TexelState::Empty;
-            if (!covered) continue;
-            glm::vec3 emitted(0.0f);
-            if (owner[t] >= 0) {
-                const int material = scene_.instances[std::size_t(owner[t])].material;
-                if (material >= 0 && std::size_t(material) < scene_.materials.size())
-                    emitted = scene_.materials[std::size_t(material)].emittedRadiance;
-            }
-            out.irradianceOverPi[t] = rho[t] * lm.irradianceOverPi[t] + emitted;
-            out.state[t] = TexelState::Covered;
-        }
-        return out;
     }
 
     void configureMaterial(tinygltf::Material& mat, int atlas) {

@@ -1,4 +1,5 @@
 // `hemibake bake SCENE -o OUT/`: load, subdivide, solve, and write the bake (CONVENTIONS.md "Bake output layout").
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -11,14 +12,19 @@
 #include "baker/atomic_output.h"
 #include "baker/bake_layout.h"
 #include "baker/bake_report.h"
+#include "baker/baked_scene_view.h"
+#include "baker/radiance_preview.h"
+#include "baker/surface_agreement.h"
 #include "baker/exr_io.h"
 #include "baker/gltf_writer.h"
+#include "baker/inside_geometry.h"
 #include "baker/lightmap_baker.h"
 #include "baker/lightmap_seams.h"
 #include "baker/png_preview.h"
 #include "baker/embree_scene.h"
 #include "baker/presets.h"
 #include "baker/radiosity_solver.h"
+#include "cli/bake_probes.h"
 #include "cli/command.h"
 #include "cli/progress.h"
 #include "mesh/gltf_loader.h"
@@ -28,6 +34,8 @@
 namespace hemibake::cli {
 
 namespace {
+
+constexpr int kPreviewWidth = 640;  // pixels; height from the camera's aspect ratio
 
 struct BakeOptions {
     std::string scenePath;
@@ -50,6 +58,7 @@ struct BakeOptions {
     std::optional<std::string> texelMode;
     std::string uvMode = "unwrap";
     std::string gltfMode = "lightmap";
+    ProbeOptions probes;
 };
 
 class StageClock {
@@ -114,6 +123,7 @@ int runBake(const BakeOptions& o) {
     report.timings.push_back({"load", clock.lap()});
     report.settings = resolveSettings(o, scene.bounds().diagonal());
     const BakeSettings& settings = report.settings;
+    const ProbeJob probeJob = prepareProbeJob(o.probes, scene);  // a bad probes file fails before the solve
     if (settings.solver.hemicubeResolution < 2 || settings.solver.hemicubeResolution % 2)
         throw std::invalid_argument("--hemicube-res must be an even number >= 2");
     std::unique_ptr<tbb::global_control> threadLimit;
@@ -124,7 +134,7 @@ int runBake(const BakeOptions& o) {
     progress.update("preparing", true);
     const EmbreeScene rays(scene);
     report.timings.push_back({"setup", clock.lap()});
-    RadiosityBake bake = solveWithRefinement(scene, settings, rays,
+    const std::unique_ptr<RadiosityBake> solved = solveWithRefinement(scene, settings, rays,
                                   [&](const std::string& stage, const ConvergenceRecord& r) {
                                       std::string line = stage + ": ";
                                       if (stage == "shoot")
@@ -136,6 +146,7 @@ int runBake(const BakeOptions& o) {
                                       std::snprintf(t, sizeof t, ", %.1f s", r.seconds);
                                       progress.update(line + t);
                                   });
+    RadiosityBake& bake = *solved;
     report.solve = bake.report;
     report.triangles = scene.triangleCount();
     report.patches = bake.mesh.patches.size();
@@ -152,6 +163,10 @@ int runBake(const BakeOptions& o) {
     progress.finish("solved: " + report.solve.stopReason + ", " + std::to_string(report.solve.shots) + " shots, " +
                     std::to_string(report.solve.gatherSweeps) + " gather sweeps, unshot " +
                     percent(report.solve.unshotFraction) + ", error bound " + percent(report.solve.errorBound));
+    // Probes and the irradiance volume see the solved elements (displayRadiosity / π) and the sky.
+    runProbeJob(probeJob, o.probes, scene, bake.mesh, bake.solution, settings.lighting.skyRadiance, fs::path(o.outDir),
+                progress, report);
+    clock.lap();  // the probe stages timed themselves
 
     // Lightmaps: unwrap, place texels, bake E/π per texel, write EXR + preview + lightmapped glb.
     const fs::path out(o.outDir);
@@ -169,6 +184,20 @@ int runBake(const BakeOptions& o) {
     const SeamStats seams = stitchSeams(scene, atlas, images, settings.lightmap.stitchSeams);
     for (LightmapImage& image : images) lightmapStats.dilated += dilate(image, settings.lightmap.dilationTexels);
     report.timings.push_back({"lightmaps", clock.lap()});
+    nlohmann::json surfaces = nlohmann::json::array();
+    double worstSurface = 0.0;
+    std::vector<std::vector<std::uint8_t>> insideGeometry;
+    for (const AtlasTexels& t : texels)
+        insideGeometry.push_back(texelsInsideGeometry(scene, rays, t, settings.lightmap.invalidBackfaceFraction));
+    for (const SurfaceAgreement& s : compareSurfaceMeans(scene, bake.mesh, bake.solution, texels, images, insideGeometry)) {
+        worstSurface = std::max(worstSurface, s.relativeDifference());
+        surfaces.push_back({{"node", s.nodeName},
+                            {"instance", s.instance},
+                            {"texels", s.texels},
+                            {"elementMeanIrradianceOverPi", {s.elementMean.x, s.elementMean.y, s.elementMean.z}},
+                            {"lightmapMeanIrradianceOverPi", {s.lightmapMean.x, s.lightmapMean.y, s.lightmapMean.z}},
+                            {"relativeDifference", s.relativeDifference()}});
+    }
     GltfWriteOptions gltfOptions;
     gltfOptions.mode = *parseGltfMode(o.gltfMode);
     nlohmann::json files = nlohmann::json::array(), atlases = nlohmann::json::array();
@@ -182,6 +211,18 @@ int runBake(const BakeOptions& o) {
     const std::string stem = fs::path(o.scenePath).stem().string();
     report.primitives = writeLightmappedGlb(o.scenePath, scene, atlas, images, out / (stem + ".glb"), gltfOptions);
     report.timings.push_back({"write", clock.lap()});
+    if (!scene.cameras.empty()) {
+        // A picture of the result from the scene's own camera: what the user would look at first.
+        progress.update("preview render", true);
+        const Camera& camera = scene.cameras.front();
+        const RgbImage preview = renderBakedScene(scene, atlas, images, camera, kPreviewWidth,
+                                                  imageHeightFor(camera, kPreviewWidth), settings.lighting.skyRadiance);
+        writeRgbExr(out / "preview.exr", preview);
+        writeRadiancePreviewPng(out / "preview.png", preview);
+        report.extra["preview"] = {{"camera", camera.name}, {"exr", "preview.exr"}, {"png", "preview.png"},
+                                   {"width", preview.width}, {"height", preview.height}};
+        report.timings.push_back({"preview", clock.lap()});
+    }
     report.extra["sceneAbsolute"] = fs::absolute(o.scenePath).lexically_normal().string();
     report.extra["lightmap"] = {{"texelsPerUnit", settings.lightmap.texelsPerUnit},
                                 {"maxAtlasSize", settings.lightmap.maxAtlasSize},
@@ -201,6 +242,7 @@ int runBake(const BakeOptions& o) {
                                 {"dilationTexels", settings.lightmap.dilationTexels},
                                 {"dilatedTexels", lightmapStats.dilated},
                                 {"charts", atlas.stats.charts},
+                                {"surfaceAgreement", {{"maxRelativeDifference", worstSurface}, {"surfaces", surfaces}}},
                                 {"seams", {{"edges", seams.seamEdges},
                                            {"samples", seams.samples},
                                            {"stitched", settings.lightmap.stitchSeams},
@@ -282,6 +324,7 @@ CommandRunner addBakeCommand(CLI::App& app) {
         ->capture_default_str()->check(CLI::IsMember({"unwrap", "keep"}));
     cmd->add_option("--gltf", o->gltfMode, "lightmap: PBR materials + MOZ_lightmap; emissive: viewable anywhere (baked "
                                            "into emissive)")->capture_default_str()->check(CLI::IsMember({"lightmap", "emissive"}));
+    addProbeOptions(*cmd, o->probes);
     cmd->add_flag("--progress", o->progress, "Report progress on stderr even when it is not a terminal");
     return [o]() { return runBake(*o); };
 }

@@ -13,5 +13,8 @@ CommandRunner addInfoCommand(CLI::App& app);
 CommandRunner addBakeCommand(CLI::App& app);
 CommandRunner addReferenceCommand(CLI::App& app);
 CommandRunner addCompareCommand(CLI::App& app);
+CommandRunner addBatchCommand(CLI::App& app);
+CommandRunner addSampleVolumeCommand(CLI::App& app);
+CommandRunner addRenderCommand(CLI::App& app);
 
 }  // namespace hemibake::cli

@@ -22,6 +22,9 @@ int main(int argc, char** argv) {
     add(hemibake::cli::addBakeCommand);
     add(hemibake::cli::addReferenceCommand);
     add(hemibake::cli::addCompareCommand);
+    add(hemibake::cli::addBatchCommand);
+    add(hemibake::cli::addSampleVolumeCommand);
+    add(hemibake::cli::addRenderCommand);
 
     try {
         app.parse(argc, argv);

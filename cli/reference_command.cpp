@@ -18,7 +18,9 @@
 #include "baker/exr_io.h"
 #include "baker/png_preview.h"
 #include "baker/progressive_reference.h"
+#include "baker/radiance_preview.h"
 #include "baker/rgb_image.h"
+#include "cli/camera_options.h"
 #include "cli/command.h"
 #include "cli/progress.h"
 #include "mesh/errors.h"
@@ -34,11 +36,7 @@ struct ReferenceOptions {
     std::string scenePath;
     std::string texelsDir;
     std::string output;
-    std::string cameraName;
-    std::vector<double> cameraPos, cameraDir, cameraUp{0.0, 1.0, 0.0};
-    std::optional<double> fovDeg;
-    int width = 512;
-    std::optional<int> height;
+    CameraOptions camera;
     std::uint32_t spp = 64;
     double timeLimitSeconds = 0.0;
     std::vector<float> sky;
@@ -52,26 +50,17 @@ struct ReferenceOptions {
 
 nlohmann::json vec(const glm::dvec3& v) { return {v.x, v.y, v.z}; }
 
-glm::dvec3 toVec(const std::vector<double>& v) { return {v[0], v[1], v[2]}; }
-
 // Command-line consistency that CLI11's needs/excludes cannot express; a violation is exit 2.
 void validate(const ReferenceOptions& o) {
-    const bool camera = !o.cameraName.empty() || !o.cameraPos.empty();
     if (!o.texelsDir.empty()) {
         if (!o.scenePath.empty())
             throw CLI::ValidationError("SCENE", "texel mode takes the scene from OUT/bake.json; give SCENE or --texels, not both");
         return;
     }
     if (o.scenePath.empty()) throw CLI::ValidationError("SCENE", "give a SCENE with a camera, or --texels OUT/");
-    if (!camera) throw CLI::ValidationError("--camera", "give --camera NAME or --camera-pos X,Y,Z --camera-dir X,Y,Z");
+    validateCameraOptions(o.camera);
     if (fs::path(o.output).extension() != ".exr")
         throw CLI::ValidationError("--output", "the camera image is written as OpenEXR: -o must end in .exr");
-    if (!o.cameraPos.empty()) {
-        const glm::dvec3 dir = toVec(o.cameraDir), up = toVec(o.cameraUp);
-        if (!(glm::length(dir) > 0.0)) throw CLI::ValidationError("--camera-dir", "must not be zero");
-        if (!(glm::length(glm::cross(glm::normalize(dir), up)) > 1e-6))
-            throw CLI::ValidationError("--camera-up", "must not be zero or parallel to --camera-dir");
-    }
 }
 
 std::string summary(const ProgressiveStatus& s, std::uint32_t target, const char* what = "reference") {
@@ -122,54 +111,11 @@ PathTracerSettings tracerSettings(const ReferenceOptions& o, const nlohmann::jso
     return t;
 }
 
-Camera chooseCamera(const Scene& scene, const ReferenceOptions& o) {
-    Camera camera;
-    if (!o.cameraName.empty()) {
-        std::string names;
-        for (const Camera& c : scene.cameras) {
-            if (c.name == o.cameraName) camera = c;
-            names += (names.empty() ? "" : ", ") + c.name;
-        }
-        if (camera.name != o.cameraName)
-            throw InputError(o.scenePath, "has no camera named \"" + o.cameraName + "\" (cameras: " +
-                                              (names.empty() ? "none" : names) + ")");
-    } else {
-        camera.name = "command line";
-        camera.position = toVec(o.cameraPos);
-        camera.forward = glm::vec3(glm::normalize(toVec(o.cameraDir)));
-        camera.up = glm::vec3(glm::normalize(toVec(o.cameraUp)));
-        camera.yfovRadians = float(45.0 * M_PI / 180.0);
-    }
-    if (o.fovDeg) camera.yfovRadians = float(*o.fovDeg * M_PI / 180.0);
-    return camera;
-}
-
-// The preview's exposure k (pixels shown as sRGB(value / k)): Reinhard et al.'s key rule, the log-average of
-// max(R, G, B) maps to middle grey 0.18, so a small bright emitter clips instead of darkening the whole picture.
-float previewExposure(const std::vector<glm::vec3>& pixels) {
-    double sumLog = 0.0, peak = 0.0;
-    std::size_t count = 0;
-    for (const glm::vec3& p : pixels) {
-        const double v = std::max({p.x, p.y, p.z});
-        if (std::isfinite(v)) peak = std::max(peak, v);
-    }
-    const double delta = 1e-4 * peak;  // keeps black pixels from sending the log-average to 0
-    for (const glm::vec3& p : pixels) {
-        const double v = std::max({p.x, p.y, p.z});
-        if (!std::isfinite(v) || v < 0.0) continue;
-        sumLog += std::log(delta + v);
-        ++count;
-    }
-    const double k = count && peak > 0.0 ? std::exp(sumLog / double(count)) / 0.18 : 1.0;
-    return std::isfinite(k) && k > 0.0 ? float(k) : 1.0f;
-}
-
 int runCamera(const ReferenceOptions& o, ProgressLine& progress) {
     const Scene scene = loadGltf(o.scenePath);
-    const Camera camera = chooseCamera(scene, o);
-    const int width = o.width;
-    const int height = o.height ? *o.height
-                                : (camera.aspectRatio > 0.0f ? std::max(1, int(std::lround(width / camera.aspectRatio))) : width);
+    const Camera camera = chooseCamera(scene, o.scenePath, o.camera);
+    const int width = o.camera.width;
+    const int height = imageHeight(o.camera, camera);
     const PathTracerSettings tracer = tracerSettings(o, nlohmann::json::object());
     progress.update("preparing", true);
     const EmbreeScene rays(scene);
@@ -190,11 +136,7 @@ int runCamera(const ReferenceOptions& o, ProgressLine& progress) {
     const fs::path preview = fs::path(image).replace_extension(".png");
     writeRgbExr(image, radiance);
     writeRgbExr(errorImage, standardError);
-    const float exposure = previewExposure(radiance.pixels);
-    std::vector<std::uint8_t> srgb(radiance.pixels.size() * 3);
-    for (std::size_t p = 0; p < radiance.pixels.size(); ++p)
-        for (int c = 0; c < 3; ++c) srgb[3 * p + std::size_t(c)] = linearToSrgb8(radiance.pixels[p][c] / exposure);
-    writeBytesAtomically(preview, encodePng(srgb.data(), width, height, 3));
+    const float exposure = writeRadiancePreviewPng(preview, radiance);
     finish(progress, summary(estimate.status, o.spp));
 
     if (o.json) {
@@ -295,15 +237,7 @@ CommandRunner addReferenceCommand(CLI::App& app) {
     cmd->add_option("scene", o->scenePath, "glTF 2.0 scene (.gltf or .glb); camera mode only");
     auto* texels = cmd->add_option("--texels", o->texelsDir, "Texel mode: the bake directory whose texels to estimate");
     cmd->add_option("-o,--output", o->output, "Camera mode: the EXR image; texel mode: the output directory")->required();
-    auto* name = cmd->add_option("--camera", o->cameraName, "A camera of the scene, by glTF name");
-    auto* pos = cmd->add_option("--camera-pos", o->cameraPos, "Camera position X,Y,Z in metres")->delimiter(',')->expected(3);
-    auto* dir = cmd->add_option("--camera-dir", o->cameraDir, "Viewing direction X,Y,Z")->delimiter(',')->expected(3);
-    auto* up = cmd->add_option("--camera-up", o->cameraUp, "Up direction X,Y,Z")->capture_default_str()->delimiter(',')->expected(3);
-    auto* fov = cmd->add_option("--fov-deg", o->fovDeg, "Vertical field of view in degrees (default: the camera's, or 45)")
-                    ->check(CLI::Range(0.1, 179.0));
-    auto* width = cmd->add_option("--width", o->width, "Image width in pixels")->capture_default_str()->check(CLI::Range(1, 16384));
-    auto* height = cmd->add_option("--height", o->height, "Image height in pixels (default: from the camera's aspect ratio, "
-                                                          "else square)")->check(CLI::Range(1, 16384));
+    const std::vector<CLI::Option*> cameraOptions = addCameraOptions(*cmd, o->camera);
     cmd->add_option("--spp", o->spp, "Target samples per pixel or texel")->capture_default_str()->check(CLI::Range(1u, 1u << 24));
     cmd->add_option("--time-limit", o->timeLimitSeconds, "Stop after this many seconds, with the spp reached (0 = no limit)")
         ->capture_default_str()->check(CLI::NonNegativeNumber);
@@ -318,10 +252,7 @@ CommandRunner addReferenceCommand(CLI::App& app) {
     cmd->add_option("--threads", o->threads, "Worker threads (0 = all cores)")->check(CLI::NonNegativeNumber);
     cmd->add_flag("--json", o->json, "Print the run's figures (spp reached, time, rays, files) as JSON");
     cmd->add_flag("--progress", o->progress, "Report progress on stderr even when it is not a terminal");
-    name->excludes(pos)->excludes(dir);
-    pos->needs(dir);
-    dir->needs(pos);
-    for (CLI::Option* camera : {name, pos, dir, up, fov, width, height}) texels->excludes(camera);
+    for (CLI::Option* camera : cameraOptions) texels->excludes(camera);
     cmd->final_callback([o]() { validate(*o); });
     return [o]() {
         ProgressLine progress(o->progress);

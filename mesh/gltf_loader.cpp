@@ -194,6 +194,9 @@ private:
             for (std::size_t p = 0; p < mesh.primitives.size(); ++p) readPrimitive(index, node.mesh, int(p), world);
         }
         if (node.camera >= 0) readCamera(node, world);
+        if (node.extras.IsObject() && node.extras.Has("hemibake_probe") && node.extras.Get("hemibake_probe").IsBool() &&
+            node.extras.Get("hemibake_probe").Get<bool>())
+            scene_.probePositions.push_back(glm::dvec3(world[3]));  // the node's world translation
         auto light = node.extensions.find("KHR_lights_punctual");
         if (light != node.extensions.end() && light->second.Has("light"))
             readLight(light->second.Get("light").GetNumberAsInt(), world);

@@ -103,6 +103,8 @@ struct Scene {
     std::vector<PunctualLight> lights;
     std::vector<Camera> cameras;
     std::vector<MeshInstance> instances;
+    // Light-probe positions (world, metres) from nodes whose extras hold "hemibake_probe": true.
+    std::vector<glm::dvec3> probePositions;
     LoadReport report;
 
     Bounds bounds() const;

@@ -17,6 +17,9 @@ using GlGenTexturesProc = void(APIENTRYP)(GLsizei n, GLuint* textures);
 using GlDeleteTexturesProc = void(APIENTRYP)(GLsizei n, const GLuint* textures);
 using GlBindTextureProc = void(APIENTRYP)(GLenum target, GLuint texture);
 using GlDrawArraysProc = void(APIENTRYP)(GLenum mode, GLint first, GLsizei count);
+using GlTexImage2DProc = void(APIENTRYP)(GLenum target, GLint level, GLint internalformat, GLsizei width,
+                                         GLsizei height, GLint border, GLenum format, GLenum type, const void* pixels);
+using GlTexParameteriProc = void(APIENTRYP)(GLenum target, GLenum pname, GLint param);
 
 class GlError : public std::runtime_error {
 public:
@@ -55,6 +58,9 @@ public:
     X(GenTextures, GlGenTexturesProc)                                        \
     X(DeleteTextures, GlDeleteTexturesProc)                                  \
     X(BindTexture, GlBindTextureProc)                                        \
+    X(TexImage2D, GlTexImage2DProc)                                          \
+    X(TexParameteri, GlTexParameteriProc)                                    \
+    X(DrawArrays, GlDrawArraysProc)                                          \
     X(ActiveTexture, PFNGLACTIVETEXTUREPROC)                                 \
     X(TexBuffer, PFNGLTEXBUFFERPROC)                                         \
     X(GenBuffers, PFNGLGENBUFFERSPROC)                                       \
@@ -87,6 +93,7 @@ public:
     X(Uniform2f, PFNGLUNIFORM2FPROC)                                         \
     X(Uniform3f, PFNGLUNIFORM3FPROC)                                         \
     X(UniformMatrix3fv, PFNGLUNIFORMMATRIX3FVPROC)                           \
+    X(UniformMatrix4fv, PFNGLUNIFORMMATRIX4FVPROC)                           \
     X(MultiDrawArrays, PFNGLMULTIDRAWARRAYSPROC)
 
 struct GlFunctions {

@@ -6,6 +6,7 @@ packages=(
   libopenmesh-dev libosmesa6-dev libglm-dev libopenimageio-dev openimageio-tools libtinygltf-dev
   libembree-dev libtbb-dev libcli11-dev nlohmann-json3-dev libstb-dev libeigen3-dev
   libgtest-dev libbenchmark-dev
+  clang libclang-rt-14-dev python3
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -44,7 +44,8 @@ TEST(LightmapBaker, EmitterOverSquareMatchesContourFormula) {
     settings.solver.gatherSweeps = 0;
     settings.lightmap.texelsPerUnit = 32;
     const EmbreeScene rays(scene);
-    RadiosityBake bake = solveWithRefinement(scene, settings, rays);
+    const std::unique_ptr<RadiosityBake> solved = solveWithRefinement(scene, settings, rays);
+    RadiosityBake& bake = *solved;
     UnwrapSettings unwrap;
     unwrap.texelsPerUnit = settings.lightmap.texelsPerUnit;
     const UvAtlas atlas = unwrapScene(scene, unwrap);
@@ -122,7 +123,8 @@ TEST(LightmapBaker, SeamsOnSmoothSurfacesAreStitched) {
     settings.solver.hemicubeResolution = 64;
     settings.solver.gatherSweeps = 0;
     const EmbreeScene rays(scene);
-    RadiosityBake bake = solveWithRefinement(scene, settings, rays);
+    const std::unique_ptr<RadiosityBake> solved = solveWithRefinement(scene, settings, rays);
+    RadiosityBake& bake = *solved;
     UnwrapSettings unwrap;
     unwrap.texelsPerUnit = 64;
     const UvAtlas atlas = unwrapScene(scene, unwrap);

@@ -17,41 +17,10 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr float kReflectance = 0.8f;
-const double kEmitted[3] = {1.0, 0.5, 2.0};
+constexpr float kReflectance = hemibake::test::kFurnaceReflectance;
+const double* const kEmitted = hemibake::test::kFurnaceEmitted;
 
-// A closed unit cube, every face inward, ρ = 0.8 and L_e = (1, 0.5, 2) everywhere; camera "inside" at the centre.
-std::string writeFurnace(const TempDir& dir) {
-    GltfFixture g;
-    const int material = g.addMaterial({{"pbrMetallicRoughness", {{"baseColorFactor", {kReflectance, kReflectance, kReflectance, 1.0}},
-                                                                  {"metallicFactor", 0.0}}},
-                                        {"emissiveFactor", {1.0, 1.0, 1.0}},
-                                        {"extensions", {{"KHR_materials_emissive_strength", {{"emissiveStrength", 1.0}}}}}});
-    // Emission (1, 0.5, 2) needs a factor above 1 in one channel: strength 2 on factor (0.5, 0.25, 1).
-    g.json()["materials"][0]["emissiveFactor"] = {0.5, 0.25, 1.0};
-    g.json()["materials"][0]["extensions"]["KHR_materials_emissive_strength"]["emissiveStrength"] = 2.0;
-    g.json()["extensionsUsed"] = {"KHR_materials_emissive_strength"};
-    std::vector<float> positions;
-    for (int k = 0; k < 8; ++k) positions.insert(positions.end(), {float(k & 1), float((k >> 1) & 1), float((k >> 2) & 1)});
-    // Faces as corner quads (bit 0 = x, bit 1 = y, bit 2 = z), each wound so that its normal points inwards.
-    const int quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
-    std::vector<std::uint16_t> indices;
-    for (const auto& q : quads) {
-        auto p = [&](int c) { return std::array<float, 3>{positions[3 * q[c]], positions[3 * q[c] + 1], positions[3 * q[c] + 2]}; };
-        const auto a = p(0), b = p(1), c = p(2);
-        const float u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-        const float n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
-        const bool inward = n[0] * (0.5f - a[0]) + n[1] * (0.5f - a[1]) + n[2] * (0.5f - a[2]) > 0.0f;
-        const int order[6] = {0, 1, 2, 0, 2, 3}, reversed[6] = {0, 2, 1, 0, 3, 2};
-        for (int k : inward ? order : reversed) indices.push_back(std::uint16_t(q[k]));
-    }
-    const int mesh = g.addMesh(g.addPositions(positions), g.addIndicesU16(indices), material);
-    g.addNode({{"name", "furnace"}, {"mesh", mesh}});
-    g.json()["cameras"] = {{{"name", "inside"}, {"type", "perspective"},
-                            {"perspective", {{"yfov", 1.2}, {"znear", 0.01}, {"aspectRatio", 1.5}}}}};
-    g.addNode({{"name", "inside"}, {"camera", 0}, {"translation", {0.5, 0.5, 0.5}}});
-    return g.writeGltf(dir, "furnace");
-}
+std::string writeFurnace(const TempDir& dir) { return hemibake::test::furnaceFixture().writeGltf(dir, "furnace"); }
 
 nlohmann::json parseJson(const std::string& text) {
     try {

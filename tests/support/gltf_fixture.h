@@ -58,6 +58,12 @@ private:
 // A unit quad in the XZ plane facing +Y (two triangles), ready to load.
 GltfFixture unitQuadFixture();
 
+// The closed furnace: a unit cube [0,1]³, every face inward, ρ = kFurnaceReflectance and L_e = kFurnaceEmitted
+// everywhere, a camera "inside" (yfov 1.2, aspect 1.5) at the centre. Radiance everywhere: L_e/(1−ρ).
+inline constexpr float kFurnaceReflectance = 0.8f;
+inline constexpr double kFurnaceEmitted[3] = {1.0, 0.5, 2.0};
+GltfFixture furnaceFixture();
+
 // Runs the hemibake binary; captures exit code, stdout and stderr.
 struct CommandResult {
     int exitCode = -1;

@@ -1,0 +1,454 @@
+#!/usr/bin/env python3
+"""Generates a game-like glTF 2.0 level for hemibake: rooms on double-loaded corridors, doorways, windows open to
+the sky, pillars, stairs up to platforms, furniture and shelves, emissive ceiling panels, a sun and a camera.
+
+    python3 examples/generate_level.py --seed 1 --triangles 10000 -o examples/level_small.gltf
+
+Deterministic: the same seed and triangle target give byte-identical files (Python's own `random`, no
+dictionaries iterated in an unspecified order, fixed float formatting through `struct`).
+
+Geometry is made for a radiosity baker (CONVENTIONS.md frame: metres, +Y up):
+* every solid is a closed, outward-facing mesh (walls and stairs are 2-D cell grids extruded to a thickness,
+  so an opening is a hole through a closed solid, not two overlapping boxes);
+* no two faces are coplanar and overlapping: parts that meet interpenetrate by a few centimetres instead of
+  touching, with different depths per kind (x-walls, z-walls, pillars, props), so hidden faces end up inside
+  solids and visible ones never z-fight;
+* reflectances 0.2-0.8, emission through emissiveFactor × KHR_materials_emissive_strength.
+Standard library only, so it runs on a stock Debian python3.
+"""
+import argparse
+import json
+import math
+import os
+import random
+import struct
+
+WALL_T = 0.2          # wall thickness, metres
+HEIGHT = 3.0          # storey height (floor top to ceiling underside)
+CORRIDOR_W = 2.4
+# Penetration depths into the floor / ceiling slabs, different per kind so hidden faces never coincide.
+PEN_XWALL, PEN_ZWALL, PEN_PILLAR, PEN_PROP = 0.05, 0.03, 0.04, 0.01
+
+MATERIALS = [
+    # name, baseColor (linear), emissive factor, emissive strength
+    ("floor", (0.45, 0.42, 0.38), None, None),
+    ("wall", (0.70, 0.68, 0.62), None, None),
+    ("ceiling", (0.75, 0.75, 0.72), None, None),
+    ("concrete", (0.55, 0.55, 0.55), None, None),
+    ("wood", (0.50, 0.35, 0.20), None, None),
+    ("crate", (0.60, 0.45, 0.25), None, None),
+    ("book_red", (0.60, 0.20, 0.20), None, None),
+    ("book_blue", (0.22, 0.30, 0.60), None, None),
+    ("book_green", (0.25, 0.55, 0.30), None, None),
+    ("panel", (0.80, 0.80, 0.80), (1.0, 0.95, 0.85), 12.0),
+]
+MAT = {m[0]: i for i, m in enumerate(MATERIALS)}
+
+
+class MeshBuilder:
+    """Flat-shaded triangles grouped by material; every face gets its own vertices and normal."""
+
+    def __init__(self):
+        self.groups = {}  # material index -> ([positions], [normals], [indices]); insertion-ordered
+        self.triangles = 0
+
+    def quad(self, mat, p, outward):
+        """p: four corners in order around the quad; flipped if needed so the face looks along `outward`."""
+        n = _normalize(_cross(_sub(p[1], p[0]), _sub(p[2], p[0])))
+        if _dot(n, outward) < 0:
+            p = [p[0], p[3], p[2], p[1]]
+            n = (-n[0], -n[1], -n[2])
+        self._poly(mat, p, n)
+
+    def _poly(self, mat, p, n):
+        pos, nor, idx = self.groups.setdefault(mat, ([], [], []))
+        base = len(pos)
+        pos.extend(p)
+        nor.extend([n] * len(p))
+        for k in range(1, len(p) - 1):
+            idx.extend((base, base + k, base + k + 1))
+            self.triangles += 1
+
+    def box(self, mat, lo, hi):
+        grid_solid(self, mat, [lo[0], hi[0]], [lo[1], hi[1]], lambda i, j: True, "x", lo[2], hi[2])
+
+    def cylinder(self, mat, cx, cz, r, y0, y1, segments):
+        ring = [(cx + r * math.cos(2 * math.pi * k / segments), cz + r * math.sin(2 * math.pi * k / segments))
+                for k in range(segments)]
+        for k in range(segments):
+            a, b = ring[k], ring[(k + 1) % segments]
+            mid = ((a[0] + b[0]) / 2 - cx, 0.0, (a[1] + b[1]) / 2 - cz)
+            self.quad(mat, [(a[0], y0, a[1]), (b[0], y0, b[1]), (b[0], y1, b[1]), (a[0], y1, a[1])], mid)
+        top = [(x, y1, z) for x, z in ring]
+        self._poly(mat, list(reversed(top)), (0.0, 1.0, 0.0))
+        bottom = [(x, y0, z) for x, z in ring]
+        self._poly(mat, bottom, (0.0, -1.0, 0.0))
+
+
+def _sub(a, b): return (a[0] - b[0], a[1] - b[1], a[2] - b[2])
+def _dot(a, b): return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+def _cross(a, b): return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+
+
+def _normalize(a):
+    length = math.sqrt(_dot(a, a)) or 1.0
+    return (a[0] / length, a[1] / length, a[2] / length)
+
+
+def grid_solid(mb, mat, us, ys, solid, axis, w0, w1):
+    """A 2-D grid of cells (breakpoints `us` along the solid's length, `ys` up) where solid(i, j) says which cells
+    are filled, extruded from w0 to w1 across. axis "x": u runs along x and w along z; axis "z": u along z, w
+    along x. Emits only the boundary faces, so the result is one closed solid with holes where cells are empty."""
+    def P(u, y, w):
+        return (u, y, w) if axis == "x" else (w, y, u)
+
+    def N(du, dy, dw):
+        return (du, dy, dw) if axis == "x" else (dw, dy, du)
+
+    nu, ny = len(us) - 1, len(ys) - 1
+    filled = lambda i, j: 0 <= i < nu and 0 <= j < ny and solid(i, j)
+    for i in range(nu):
+        for j in range(ny):
+            if not solid(i, j):
+                continue
+            u0, u1, y0, y1 = us[i], us[i + 1], ys[j], ys[j + 1]
+            mb.quad(mat, [P(u0, y0, w1), P(u1, y0, w1), P(u1, y1, w1), P(u0, y1, w1)], N(0, 0, 1))
+            mb.quad(mat, [P(u0, y0, w0), P(u1, y0, w0), P(u1, y1, w0), P(u0, y1, w0)], N(0, 0, -1))
+            if not filled(i - 1, j):
+                mb.quad(mat, [P(u0, y0, w0), P(u0, y1, w0), P(u0, y1, w1), P(u0, y0, w1)], N(-1, 0, 0))
+            if not filled(i + 1, j):
+                mb.quad(mat, [P(u1, y0, w0), P(u1, y1, w0), P(u1, y1, w1), P(u1, y0, w1)], N(1, 0, 0))
+            if not filled(i, j - 1):
+                mb.quad(mat, [P(u0, y0, w0), P(u1, y0, w0), P(u1, y0, w1), P(u0, y0, w1)], N(0, -1, 0))
+            if not filled(i, j + 1):
+                mb.quad(mat, [P(u0, y1, w0), P(u1, y1, w0), P(u1, y1, w1), P(u0, y1, w1)], N(0, 1, 0))
+
+
+def wall(mb, axis, centre, u0, u1, pen, openings):
+    """A wall of thickness WALL_T centred on `centre` (z for axis "x", x for axis "z") from u0 to u1, reaching `pen`
+    into the floor and ceiling slabs; openings: (ua, ub, ya, yb) holes (doors start at the wall's bottom)."""
+    y0, y1 = -pen, HEIGHT + pen
+    us = sorted({u0, u1, *[o[0] for o in openings], *[o[1] for o in openings]})
+    ys = sorted({y0, y1, *[max(o[2], y0) for o in openings], *[o[3] for o in openings]})
+
+    def solid(i, j):
+        cu, cy = (us[i] + us[i + 1]) / 2, (ys[j] + ys[j + 1]) / 2
+        return not any(o[0] < cu < o[1] and max(o[2], y0) < cy < o[3] for o in openings)
+
+    grid_solid(mb, MAT["wall"], us, ys, solid, axis, centre - WALL_T / 2, centre + WALL_T / 2)
+
+
+def stairs(mb, axis, u0, w0, width, steps, rise, run, platform):
+    """Steps climbing along +u from u0, then a platform `platform` metres deep, extruded over `width`."""
+    us = [u0 + k * run for k in range(steps + 1)] + [u0 + steps * run + platform]
+    ys = [-PEN_PROP] + [(k + 1) * rise for k in range(steps)]
+    # Column i (step i, the last one the platform) is filled up to step i's height.
+    grid_solid(mb, MAT["concrete"], us, ys, lambda i, j: j <= min(i, steps - 1), axis, w0, w0 + width)
+    return us[-1] - u0
+
+
+class Room:
+    def __init__(self, x0, x1, z0, z1):
+        self.x0, self.x1, self.z0, self.z1 = x0, x1, z0, z1
+        self.used = []  # footprints (x0, z0, x1, z1) already taken by props
+        self.ceiling = []  # footprints of ceiling panels, which only floor-to-ceiling pillars must avoid
+
+    def free(self, r, gap=0.25, tall=False):
+        for q in self.used + (self.ceiling if tall else []):
+            if r[0] < q[2] + gap and q[0] < r[2] + gap and r[1] < q[3] + gap and q[1] < r[3] + gap:
+                return False
+        return True
+
+    def place(self, rng, w, d, margin=0.9, tall=False):
+        """A free footprint w × d inside the room, away from the walls (and so from doorways), or None."""
+        for _ in range(30):
+            if self.x1 - self.x0 - 2 * margin < w or self.z1 - self.z0 - 2 * margin < d:
+                return None
+            x = rng.uniform(self.x0 + margin, self.x1 - margin - w)
+            z = rng.uniform(self.z0 + margin, self.z1 - margin - d)
+            r = (x, z, x + w, z + d)
+            if self.free(r, tall=tall):
+                self.used.append(r)
+                return r
+        return None
+
+
+def table(mb, rng, room):
+    w, d, h = rng.uniform(1.2, 2.0), rng.uniform(0.7, 1.0), 0.75
+    r = room.place(rng, w, d)
+    if not r:
+        return False
+    mb.box(MAT["wood"], (r[0], h - 0.05, r[1]), (r[2], h, r[3]))
+    for lx, lz in ((r[0] + 0.05, r[1] + 0.05), (r[2] - 0.12, r[1] + 0.05), (r[0] + 0.05, r[3] - 0.12), (r[2] - 0.12, r[3] - 0.12)):
+        mb.box(MAT["wood"], (lx, -PEN_PROP, lz), (lx + 0.07, h - 0.03, lz + 0.07))  # legs end inside the top
+    return True
+
+
+def crates(mb, rng, room):
+    s = rng.uniform(0.5, 0.9)
+    r = room.place(rng, s, s)
+    if not r:
+        return False
+    mb.box(MAT["crate"], (r[0], -PEN_PROP, r[1]), (r[2], s, r[3]))
+    if rng.random() < 0.5:  # a smaller crate on top, sunk 1 cm into the lower one
+        t = s * 0.6
+        x, z = r[0] + rng.uniform(0.02, s - t - 0.02), r[1] + rng.uniform(0.02, s - t - 0.02)
+        mb.box(MAT["crate"], (x, s - 0.01, z), (x + t, s - 0.01 + t, z + t))
+    return True
+
+
+def shelf(mb, rng, room):
+    w, d, h = rng.uniform(1.2, 2.2), 0.4, 2.0
+    r = room.place(rng, w, d)
+    if not r:
+        return False
+    mb.box(MAT["wood"], (r[0], -PEN_PROP, r[1]), (r[0] + 0.04, h, r[3]))
+    mb.box(MAT["wood"], (r[2] - 0.04, -PEN_PROP, r[1]), (r[2], h, r[3]))
+    boards = 4
+    for b in range(boards):
+        y = 0.1 + b * (h - 0.2) / (boards - 1)
+        # Boards run into the uprights (2 cm each side) rather than touching them.
+        mb.box(MAT["wood"], (r[0] + 0.02, y - 0.025, r[1] + 0.01), (r[2] - 0.02, y, r[3] - 0.01))
+        if b == boards - 1:
+            continue
+        x = r[0] + 0.06
+        while True:
+            bw = rng.uniform(0.03, 0.07)
+            if x + bw > r[2] - 0.06:
+                break
+            bh = rng.uniform(0.18, 0.32)
+            bd = rng.uniform(0.22, 0.3)
+            mat = MAT[rng.choice(("book_red", "book_blue", "book_green"))]
+            mb.box(mat, (x, y - 0.01, r[1] + 0.04), (x + bw, y - 0.01 + bh, r[1] + 0.04 + bd))  # sunk into the board
+            x += bw + rng.uniform(0.005, 0.02)
+    return True
+
+
+def pillar(mb, rng, room, segments):
+    rad = rng.uniform(0.2, 0.3)
+    r = room.place(rng, 2 * rad, 2 * rad, margin=1.2, tall=True)
+    if not r:
+        return False
+    mb.cylinder(MAT["concrete"], (r[0] + r[2]) / 2, (r[1] + r[3]) / 2, rad, -PEN_PILLAR, HEIGHT + PEN_PILLAR, segments)
+    return True
+
+
+def staircase(mb, rng, room):
+    steps = rng.randint(5, 8)
+    rise, run, width, platform = 0.18, 0.28, rng.uniform(0.9, 1.2), 1.2
+    length = steps * run + platform
+    r = room.place(rng, length, width, margin=0.6)
+    if not r:
+        return False
+    stairs(mb, "x", r[0], r[1], width, steps, rise, run, platform)
+    return True
+
+
+def panel(mb, x, z, w, d):
+    # Hangs 5 cm below the ceiling: a floating closed box, no face shared with the slab.
+    mb.box(MAT["panel"], (x - w / 2, HEIGHT - 0.1, z - d / 2), (x + w / 2, HEIGHT - 0.05, z + d / 2))
+
+
+def generate(seed, target):
+    rng = random.Random(seed)
+    scale = max(target, 2000) / 10000.0
+    n_rooms = max(4, round(6 * scale ** 0.87))  # area grows slower than detail
+    pairs = max(1, round(math.sqrt(n_rooms) / 3))  # room rows come in pairs around a corridor
+    cols = math.ceil(n_rooms / (2 * pairs))
+    widths = [round(rng.uniform(6.0, 8.0), 2) for _ in range(cols)]
+    xs = [0.0]
+    for w in widths:
+        xs.append(xs[-1] + w)
+    # Bands along z: room, corridor, room | room, corridor, room | ... (back-to-back rooms between pairs)
+    bands = []  # (z0, z1, kind, row)
+    z = 0.0
+    row = 0
+    for p in range(pairs):
+        for kind in ("room", "corridor", "room"):
+            depth = CORRIDOR_W if kind == "corridor" else round(rng.uniform(5.0, 7.0), 2)
+            bands.append((z, z + depth, kind, row if kind == "room" else -1))
+            if kind == "room":
+                row += 1
+            z += depth
+    xmin, xmax, zmin, zmax = xs[0], xs[-1], bands[0][0], bands[-1][1]
+    rooms = [(b, c) for b in range(len(bands)) if bands[b][2] == "room" for c in range(cols)]
+
+    nodes, meshes = [], []
+
+    def emit(name, mb):
+        if mb.groups:
+            meshes.append((name, mb))
+            nodes.append({"name": name, "mesh": len(meshes) - 1})
+        return mb.triangles
+
+    triangles = 0
+    shell = MeshBuilder()
+    ov = 0.1  # slabs reach 10 cm past the outer walls' faces, so their sides never line up with a wall face
+    shell.box(MAT["floor"], (xmin - WALL_T / 2 - ov, -0.2, zmin - WALL_T / 2 - ov), (xmax + WALL_T / 2 + ov, 0.0, zmax + WALL_T / 2 + ov))
+    shell.box(MAT["ceiling"], (xmin - WALL_T / 2 - ov, HEIGHT, zmin - WALL_T / 2 - ov), (xmax + WALL_T / 2 + ov, HEIGHT + 0.2, zmax + WALL_T / 2 + ov))
+
+    def windows_along(a0, a1):
+        n = max(1, int((a1 - a0) // 3.5))
+        step = (a1 - a0) / n
+        return [(a0 + step * (k + 0.5) - 0.7, a0 + step * (k + 0.5) + 0.7, 0.9, 2.2) for k in range(n)]
+
+    # x-walls: one per band boundary, full length (their ends cover the corners).
+    for b in range(len(bands) + 1):
+        zc = bands[0][0] if b == 0 else bands[b - 1][1]
+        below = bands[b - 1] if b > 0 else None
+        above = bands[b] if b < len(bands) else None
+        openings = []
+        exterior = below is None or above is None
+        for c in range(cols):
+            a0, a1 = xs[c] + 0.8, xs[c + 1] - 0.8
+            if exterior:
+                openings += windows_along(a0, a1)
+            elif "corridor" in (below[2], above[2]):
+                u = rng.uniform(a0, a1 - 1.2)
+                openings.append((u, u + 1.2, -1.0, 2.1))
+            elif rng.random() < 0.5:  # back-to-back rooms: sometimes a connecting door
+                u = rng.uniform(a0, a1 - 1.0)
+                openings.append((u, u + 1.0, -1.0, 2.1))
+        wall(shell, "x", zc, xmin - WALL_T / 2, xmax + WALL_T / 2, PEN_XWALL, openings)
+    # z-walls: segments between adjacent x-walls, sunk 0.4 × thickness into them (not to their middle, so two
+    # segments meeting one x-wall from both sides never share an end face).
+    sink = 0.4 * WALL_T
+    for b, (z0, z1, kind, _) in enumerate(bands):
+        for c in range(cols + 1):
+            outer = c in (0, cols)
+            if not outer and kind == "corridor":
+                continue
+            openings = []
+            if outer:
+                openings = windows_along(z0 + 0.6, z1 - 0.6) if kind == "room" else [((z0 + z1) / 2 - 0.6, (z0 + z1) / 2 + 0.6, 0.9, 2.2)]
+            elif rng.random() < 0.4:
+                u = rng.uniform(z0 + 0.8, z1 - 1.8)
+                openings.append((u, u + 1.0, -1.0, 2.1))
+            wall(shell, "z", xs[c], z0 + WALL_T / 2 - sink, z1 - WALL_T / 2 + sink, PEN_ZWALL, openings)
+    # Corridor lights.
+    for z0, z1, kind, _ in bands:
+        if kind != "corridor":
+            continue
+        n = max(1, round((xmax - xmin) / 6))
+        for k in range(n):
+            panel(shell, xmin + (xmax - xmin) * (k + 0.5) / n, (z0 + z1) / 2, 1.0, 0.4)
+    triangles += emit("shell", shell)
+
+    segments = 16 if target < 50000 else 32
+    for idx, (b, c) in enumerate(rooms):
+        z0, z1, _, row = bands[b]
+        room = Room(xs[c] + WALL_T / 2, xs[c + 1] - WALL_T / 2, z0 + WALL_T / 2, z1 - WALL_T / 2)
+        budget = (target - triangles) / (len(rooms) - idx)
+        mb = MeshBuilder()
+        cx, cz = (room.x0 + room.x1) / 2, (room.z0 + room.z1) / 2
+        # Panels first (they hang from the ceiling, so they take no floor space).
+        for px in (cx - (room.x1 - room.x0) / 4, cx + (room.x1 - room.x0) / 4):
+            panel(mb, px, cz, 1.2, 0.6)
+            room.ceiling.append((px - 0.6, cz - 0.3, px + 0.6, cz + 0.3))
+        if rng.random() < 0.6:
+            staircase(mb, rng, room)
+        for _ in range(rng.randint(0, 2)):
+            pillar(mb, rng, room, segments)
+        makers = (table, crates, crates, shelf, shelf, pillar)
+        failures = 0
+        while mb.triangles < budget and failures < 40:
+            maker = rng.choice(makers)
+            ok = maker(mb, rng, room, segments) if maker is pillar else maker(mb, rng, room)
+            failures += 0 if ok else 1
+        triangles += emit("room_%d_%d" % (row, c), mb)
+
+    corridor = next(b for b in bands if b[2] == "corridor")
+    return nodes, meshes, (xmin, xmax, zmin, zmax, (corridor[0] + corridor[1]) / 2), triangles
+
+
+def quat_from_to(a, b):
+    a, b = _normalize(a), _normalize(b)
+    c = _cross(a, b)
+    w = 1.0 + _dot(a, b)
+    q = (c[0], c[1], c[2], w)
+    n = math.sqrt(sum(v * v for v in q))
+    return [q[0] / n, q[1] / n, q[2] / n, q[3] / n]
+
+
+def write_gltf(path, nodes, meshes, extent, seed):
+    binary = bytearray()
+    buffer_views, accessors, gltf_meshes = [], [], []
+
+    def add_view(data, target):
+        while len(binary) % 4:
+            binary.append(0)
+        buffer_views.append({"buffer": 0, "byteOffset": len(binary), "byteLength": len(data), "target": target})
+        binary.extend(data)
+        return len(buffer_views) - 1
+
+    for name, mb in meshes:
+        prims = []
+        for mat, (pos, nor, idx) in mb.groups.items():
+            pdata = b"".join(struct.pack("<3f", *p) for p in pos)
+            ndata = b"".join(struct.pack("<3f", *n) for n in nor)
+            big = len(pos) > 65535
+            idata = struct.pack("<%d%s" % (len(idx), "I" if big else "H"), *idx)
+            pv, nv, iv = add_view(pdata, 34962), add_view(ndata, 34962), add_view(idata, 34963)
+            # min/max from the float32 values actually stored, as the validator checks.
+            stored = [struct.unpack("<3f", struct.pack("<3f", *p)) for p in pos]
+            lo = [min(p[k] for p in stored) for k in range(3)]
+            hi = [max(p[k] for p in stored) for k in range(3)]
+            accessors.append({"bufferView": pv, "componentType": 5126, "count": len(pos), "type": "VEC3", "min": lo, "max": hi})
+            accessors.append({"bufferView": nv, "componentType": 5126, "count": len(nor), "type": "VEC3"})
+            accessors.append({"bufferView": iv, "componentType": 5125 if big else 5123, "count": len(idx), "type": "SCALAR"})
+            a = len(accessors)
+            prims.append({"attributes": {"POSITION": a - 3, "NORMAL": a - 2}, "indices": a - 1, "material": mat})
+        gltf_meshes.append({"name": name, "primitives": prims})
+
+    materials = []
+    for name, base, emissive, strength in MATERIALS:
+        m = {"name": name, "pbrMetallicRoughness": {"baseColorFactor": [*base, 1.0], "metallicFactor": 0.0, "roughnessFactor": 0.9}}
+        if emissive:
+            m["emissiveFactor"] = list(emissive)
+            m["extensions"] = {"KHR_materials_emissive_strength": {"emissiveStrength": strength}}
+        materials.append(m)
+
+    xmin, xmax, zmin, zmax, corridor_z = extent
+    sun_dir = (0.35, -0.8, 0.48)
+    all_nodes = list(nodes)
+    all_nodes.append({"name": "sun", "rotation": quat_from_to((0, 0, -1), sun_dir),
+                      "extensions": {"KHR_lights_punctual": {"light": 0}}})
+    # The camera stands at the west end of the first corridor, looking east (-Z of the camera node = +X).
+    all_nodes.append({"name": "camera", "camera": 0, "translation": [xmin + 1.0, 1.7, corridor_z],
+                      "rotation": quat_from_to((0, 0, -1), (1, 0, 0))})
+    scene_nodes = list(range(len(all_nodes)))
+    bin_name = os.path.splitext(os.path.basename(path))[0] + ".bin"
+    doc = {
+        "asset": {"version": "2.0", "generator": "hemibake examples/generate_level.py (seed %d)" % seed},
+        "extensionsUsed": ["KHR_lights_punctual", "KHR_materials_emissive_strength"],
+        "extensions": {"KHR_lights_punctual": {"lights": [{"name": "sun", "type": "directional", "color": [1.0, 0.96, 0.9], "intensity": 40.0}]}},
+        "scene": 0,
+        "scenes": [{"name": "level", "nodes": scene_nodes}],
+        "nodes": all_nodes,
+        "meshes": gltf_meshes,
+        "materials": materials,
+        "cameras": [{"name": "camera", "type": "perspective", "perspective": {"yfov": 1.1, "znear": 0.05, "zfar": 500.0, "aspectRatio": 1.7778}}],
+        "accessors": accessors,
+        "bufferViews": buffer_views,
+        "buffers": [{"uri": bin_name, "byteLength": len(binary)}],
+    }
+    with open(path, "w", encoding="utf-8") as f:
+        json.dump(doc, f, indent=1)
+        f.write("\n")
+    with open(os.path.join(os.path.dirname(path) or ".", bin_name), "wb") as f:
+        f.write(binary)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--seed", type=int, default=1, help="random seed (same seed + size = same file)")
+    ap.add_argument("--triangles", type=int, default=10000, help="approximate triangle count (size of the level)")
+    ap.add_argument("-o", "--output", required=True, help="output .gltf (a .bin of the same name is written beside it)")
+    args = ap.parse_args()
+    nodes, meshes, extent, triangles = generate(args.seed, args.triangles)
+    write_gltf(args.output, nodes, meshes, extent, args.seed)
+    print("%s: %d triangles, %d nodes, %.1f x %.1f m" % (args.output, triangles, len(nodes), extent[1] - extent[0], extent[3] - extent[2]))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,180 @@
+#include "raster/cube_map_renderer.h"
+
+#include <string>
+
+namespace hemibake {
+
+namespace {
+
+// Same vertex stage as the hemicube's (hemicube.cpp), minus the half-face transform: back-facing triangles
+// are pushed back by 2^-20 of their depth so the side facing the eye wins ties between the two sides of a
+// double-sided surface. The vector to the eye is interpolated (it is affine in the triangle, so the
+// perspective-correct interpolation is exact) to give each texel its hit distance.
+const char* kVertexShader = R"(#version 330 core
+layout(location = 0) in vec3 positionRelOrigin;
+layout(location = 1) in uint elementId;
+layout(location = 2) in vec3 elementNormal;
+uniform vec3 eyeRelOrigin;
+uniform mat3 faceRows;   // rows: right, up, forward of this face
+uniform float nearM;
+flat out uint element;
+out vec3 fromEye;
+void main() {
+    vec3 toEye = eyeRelOrigin - positionRelOrigin;
+    vec3 v = faceRows * -toEye;
+    bool backFacing = dot(elementNormal, toEye) < 0.0;
+    gl_Position = vec4(v.x, v.y, backFacing ? nearM * (1.0 - 1.0 / 1048576.0) : nearM, v.z);
+    element = elementId;
+    fromEye = -toEye;
+}
+)";
+
+const char* kFragmentShader = R"(#version 330 core
+flat in uint element;
+in vec3 fromEye;
+uniform samplerBuffer elementRadiance;
+layout(location = 0) out vec4 radiance;
+void main() {
+    float distance = length(fromEye);
+    radiance = gl_FrontFacing ? vec4(texelFetch(elementRadiance, int(element)).rgb, distance)
+                              : vec4(0.0, 0.0, 0.0, -distance);
+}
+)";
+
+// Largest value of plane·(p − eye) over the box: the box is outside the half-space when it is negative.
+float maxAlongPlane(const glm::vec3& plane, const SceneBuffers::Chunk& chunk, const glm::vec3& eye) {
+    const glm::vec3 corner(plane.x >= 0.0f ? chunk.boundsMax.x : chunk.boundsMin.x,
+                           plane.y >= 0.0f ? chunk.boundsMax.y : chunk.boundsMin.y,
+                           plane.z >= 0.0f ? chunk.boundsMax.z : chunk.boundsMin.z);
+    return glm::dot(plane, corner - eye);
+}
+
+CubeFaceBasis makeFace(glm::dvec3 forward, glm::dvec3 up) { return {forward, glm::cross(forward, up), up}; }
+
+}  // namespace
+
+const CubeFaceBasis& cubeFaceBasis(int face) {
+    static const std::array<CubeFaceBasis, CubeMapImage::kFaceCount> faces = {
+        makeFace({1, 0, 0}, {0, 1, 0}),  makeFace({-1, 0, 0}, {0, 1, 0}), makeFace({0, 1, 0}, {0, 0, 1}),
+        makeFace({0, -1, 0}, {0, 0, 1}), makeFace({0, 0, 1}, {0, 1, 0}),  makeFace({0, 0, -1}, {0, 1, 0})};
+    return faces.at(std::size_t(face));
+}
+
+glm::dvec3 CubeMapImage::direction(int face, int i, int j) const {
+    const CubeFaceBasis& b = cubeFaceBasis(face);
+    const double s = -1.0 + (2.0 * i + 1.0) / resolution, t = -1.0 + (2.0 * j + 1.0) / resolution;
+    return b.forward + s * b.right + t * b.up;
+}
+
+CubeMapRenderer::CubeMapRenderer(const SceneBuffers& scene, int resolution)
+    : scene_(&scene), resolution_(resolution), nearPlaneM_(kNearPlanePerDiagonal * scene.sceneDiagonalM()) {
+    if (resolution < 1 || resolution > 4096)
+        throw GlError("CubeMapRenderer: resolution must be in [1, 4096], got " + std::to_string(resolution));
+    const GlContext& context = scene.context();
+    if (context.majorVersion() * 10 + context.minorVersion() < 45 && !context.hasExtension("GL_ARB_clip_control"))
+        throw GlError("CubeMapRenderer needs OpenGL 4.5 or GL_ARB_clip_control (reversed-Z)");
+    auto bound = context.bind();
+    const GlFunctions& gl = context.gl();
+    const int width = 3 * resolution, height = 2 * resolution;
+
+    colorBuffer_ = GlObject(context, GlObjectKind::Renderbuffer);
+    gl.BindRenderbuffer(GL_RENDERBUFFER, colorBuffer_.id());
+    gl.RenderbufferStorage(GL_RENDERBUFFER, GL_RGBA32F, width, height);
+    depthBuffer_ = GlObject(context, GlObjectKind::Renderbuffer);
+    gl.BindRenderbuffer(GL_RENDERBUFFER, depthBuffer_.id());
+    gl.RenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, width, height);
+    gl.BindRenderbuffer(GL_RENDERBUFFER, 0);
+    framebuffer_ = GlObject(context, GlObjectKind::Framebuffer);
+    gl.BindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
+    gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, colorBuffer_.id());
+    gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depthBuffer_.id());
+    const GLenum status = gl.CheckFramebufferStatus(GL_FRAMEBUFFER);
+    gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
+    if (status != GL_FRAMEBUFFER_COMPLETE)
+        throw GlError("CubeMapRenderer: atlas framebuffer " + std::to_string(width) + "x" + std::to_string(height) +
+                      " incomplete (status " + std::to_string(status) + ")");
+
+    program_ = compileProgram(context, "cube map radiance", kVertexShader, kFragmentShader);
+    eyeUniform_ = gl.GetUniformLocation(program_.id(), "eyeRelOrigin");
+    faceRowsUniform_ = gl.GetUniformLocation(program_.id(), "faceRows");
+    nearUniform_ = gl.GetUniformLocation(program_.id(), "nearM");
+    radianceUniform_ = gl.GetUniformLocation(program_.id(), "elementRadiance");
+    gl.UseProgram(program_.id());
+    gl.Uniform1i(radianceUniform_, 0);
+    gl.UseProgram(0);
+    gl.check(("CubeMapRenderer: creating the R=" + std::to_string(resolution) + " atlas").c_str());
+    drawFirsts_.reserve(CubeMapImage::kFaceCount * scene.chunks().size());
+    drawCounts_.reserve(CubeMapImage::kFaceCount * scene.chunks().size());
+}
+
+void CubeMapRenderer::render(const glm::dvec3& position, glm::vec3 skyRadiance, CubeMapImage& out) {
+    const GlContext& context = scene_->context();
+    auto bound = context.bind();
+    const GlFunctions& gl = context.gl();
+    const glm::vec3 eye(position - scene_->origin());
+
+    gl.BindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
+    const GLenum drawBuffer = GL_COLOR_ATTACHMENT0;
+    gl.DrawBuffers(1, &drawBuffer);
+    gl.ClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+    gl.Disable(GL_CULL_FACE);
+    gl.Disable(GL_SCISSOR_TEST);  // scissor would restrict the clears
+    gl.Enable(GL_DEPTH_TEST);
+    gl.DepthFunc(GL_GREATER);
+    gl.DepthMask(GL_TRUE);
+    const GLfloat farDepth = 0.0f;
+    gl.ClearBufferfv(GL_DEPTH, 0, &farDepth);
+    const GLfloat sky[4] = {skyRadiance.x, skyRadiance.y, skyRadiance.z, 0.0f};
+    gl.ClearBufferfv(GL_COLOR, 0, sky);
+    gl.Enable(GL_SCISSOR_TEST);  // guard-band rasterisers may otherwise spill into a neighbouring face
+
+    gl.UseProgram(program_.id());
+    gl.Uniform3f(eyeUniform_, eye.x, eye.y, eye.z);
+    gl.Uniform1f(nearUniform_, static_cast<float>(nearPlaneM_));
+    gl.BindVertexArray(scene_->vertexArray());
+    gl.ActiveTexture(GL_TEXTURE0);
+    gl.BindTexture(GL_TEXTURE_BUFFER, scene_->radianceTexture());
+
+    // Per face, the chunks inside the face's frustum (four side planes through the eye; the slack covers float
+    // rounding of positions relative to the scene centre), merged into runs of one multi-draw.
+    const auto chunks = scene_->chunks();
+    const float slack = static_cast<float>(1e-6 * scene_->sceneDiagonalM());
+    lastChunksDrawn_ = 0;
+    for (int face = 0; face < CubeMapImage::kFaceCount; ++face) {
+        const CubeFaceBasis& b = cubeFaceBasis(face);
+        const glm::vec3 f(b.forward), r(b.right), u(b.up);
+        const glm::vec3 planes[4] = {f - r, f + r, f - u, f + u};
+        drawFirsts_.clear();
+        drawCounts_.clear();
+        for (const SceneBuffers::Chunk& chunk : chunks) {
+            bool visible = true;
+            for (const glm::vec3& plane : planes) visible = visible && maxAlongPlane(plane, chunk, eye) >= -slack;
+            if (!visible) continue;
+            ++lastChunksDrawn_;
+            if (!drawFirsts_.empty() && drawFirsts_.back() + drawCounts_.back() == chunk.firstVertex)
+                drawCounts_.back() += chunk.vertexCount;
+            else {
+                drawFirsts_.push_back(chunk.firstVertex);
+                drawCounts_.push_back(chunk.vertexCount);
+            }
+        }
+        if (drawFirsts_.empty()) continue;
+        const GLfloat rows[9] = {r.x, r.y, r.z, u.x, u.y, u.z, f.x, f.y, f.z};
+        gl.UniformMatrix3fv(faceRowsUniform_, 1, GL_TRUE, rows);
+        const GLint x = (face % 3) * resolution_, y = (face / 3) * resolution_;
+        gl.Viewport(x, y, resolution_, resolution_);
+        gl.Scissor(x, y, resolution_, resolution_);
+        gl.MultiDrawArrays(GL_TRIANGLES, drawFirsts_.data(), drawCounts_.data(), static_cast<GLsizei>(drawFirsts_.size()));
+    }
+    gl.BindVertexArray(0);
+    gl.UseProgram(0);
+
+    out.resolution = resolution_;
+    out.pixels.resize(std::size_t(out.atlasWidth()) * std::size_t(out.atlasHeight()));
+    gl.ReadBuffer(GL_COLOR_ATTACHMENT0);
+    gl.ReadPixels(0, 0, out.atlasWidth(), out.atlasHeight(), GL_RGBA, GL_FLOAT, out.pixels.data());
+    gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
+    gl.check("CubeMapRenderer::render");
+}
+
+}  // namespace hemibake
