@@ -54,59 +54,10 @@ void placeAdaptively(const AtlasTexels& texels, const LightmapSettings& ls, doub
     std::vector<std::uint32_t> batch;
     std::vector<glm::dvec3> gathered;
     std::vector<float> backface;
-    for (int step = coarse; step >= 1; step /= 2) {
-        batch.clear();
-        const double reach = 1.5 * std::sqrt(2.0) * step * texelSizeM;  // world distance of a lattice neighbour
-        for (std::size_t i = 0; i < n; ++i) {
-            const int x = texels.x[i], y = texels.y[i];
-            if (done[i] || x % step || y % step) continue;
-            if (step == coarse) {
-                batch.push_back(std::uint32_t(i));
-                continue;
-            }
-            // Interpolate when the light is locally linear: on an edge midpoint, linear and cubic interpolation
-            // from the four lattice points on its line agree; at a cell centre, the two diagonals agree. Both
-            // measure curvature, so smooth gradients interpolate while shadow edges and corners get hemicubes.
-            const bool oddX = (x / step) % 2 == 1, oddY = (y / step) % 2 == 1;
-            auto valueAt = [&](int dx, int dy, glm::dvec3& v) {
-                const std::int32_t j = grid.find(x + dx, y + dy);
-                if (j < 0 || !done[std::size_t(j)] || invalid[std::size_t(j)] || !continuous(texels, i, std::size_t(j), 3.0 * reach))
-                    return false;
-                v = value[std::size_t(j)];
-                return true;
-            };
-            bool ok = false;
-            glm::dvec3 estimate(0.0);
-            double curvature = 0.0, scale = 0.0;
-            if (oddX != oddY) {
-                const int ux = oddX ? step : 0, uy = oddY ? step : 0;
-                glm::dvec3 b, c, a, d;
-                if (valueAt(-ux, -uy, b) && valueAt(ux, uy, c)) {
-                    ok = true;
-                    estimate = 0.5 * (b + c);
-                    scale = std::max(channelSum(b), channelSum(c));
-                    if (valueAt(-3 * ux, -3 * uy, a) && valueAt(3 * ux, 3 * uy, d))
-                        curvature = std::abs(channelSum(-a + b + c - d)) / 16.0;  // |cubic − linear| midpoint estimate
-                    else
-                        curvature = std::abs(channelSum(b - c));  // at a chart edge: fall back to plain agreement
-                }
-            } else {
-                glm::dvec3 c00, c10, c01, c11;
-                if (valueAt(-step, -step, c00) && valueAt(step, -step, c10) && valueAt(-step, step, c01) && valueAt(step, step, c11)) {
-                    ok = true;
-                    estimate = 0.25 * (c00 + c10 + c01 + c11);
-                    scale = std::max({channelSum(c00), channelSum(c10), channelSum(c01), channelSum(c11)});
-                    curvature = std::abs(channelSum(c00 + c11 - c10 - c01)) / 2.0;
-                }
-            }
-            if (ok && curvature <= ls.interpolationTolerance * (scale + floor)) {
-                value[i] = estimate;
-                done[i] = 1;
-                ++stats.interpolated;
-            } else {
-                batch.push_back(std::uint32_t(i));
-            }
-        }
+    // Per level: the coarse lattice, then edge midpoints (between two lattice points on a row or column), then
+    // cell centres (which can then use the midpoints around them as well as the diagonal corners).
+    enum class Phase { Lattice, EdgeMidpoints, CellCentres };
+    auto render = [&](Phase phase, int step) {
         gather(batch, gathered, backface);
         for (std::size_t k = 0; k < batch.size(); ++k) {
             value[batch[k]] = gathered[k];
@@ -114,12 +65,83 @@ void placeAdaptively(const AtlasTexels& texels, const LightmapSettings& ls, doub
             done[batch[k]] = 1;
         }
         stats.rendered += batch.size();
-        if (step == coarse && !batch.empty()) {
+        if (phase == Phase::Lattice && step == coarse && !batch.empty()) {
             double mean = 0.0;
             for (const glm::dvec3& g : gathered) mean += channelSum(g);
             floor = 0.01 * mean / double(batch.size());
         }
         advanced(batch.size());
+        batch.clear();
+    };
+    for (int step = coarse; step >= 1; step /= 2) {
+        for (const Phase phase : {Phase::Lattice, Phase::EdgeMidpoints, Phase::CellCentres}) {
+            if (phase == Phase::Lattice && step != coarse) continue;
+            const double reach = 1.5 * std::sqrt(2.0) * step * texelSizeM;  // world distance of a lattice neighbour
+            for (std::size_t i = 0; i < n; ++i) {
+                const int x = texels.x[i], y = texels.y[i];
+                if (done[i] || x % step || y % step) continue;
+                if (phase == Phase::Lattice) {
+                    batch.push_back(std::uint32_t(i));
+                    continue;
+                }
+                const bool oddX = (x / step) % 2 == 1, oddY = (y / step) % 2 == 1;
+                if ((oddX != oddY) != (phase == Phase::EdgeMidpoints)) continue;
+                auto valueAt = [&](int dx, int dy, glm::dvec3& v) {
+                    const std::int32_t j = grid.find(x + dx, y + dy);
+                    if (j < 0 || !done[std::size_t(j)] || invalid[std::size_t(j)] ||
+                        !continuous(texels, i, std::size_t(j), 3.0 * reach))
+                        return false;
+                    v = value[std::size_t(j)];
+                    return true;
+                };
+                // Interpolate only where the light is locally smooth, and then to second order: a linear average
+                // of a curved profile is biased (a wall lit from above is concave across its middle, and every
+                // interpolated texel there would come out a little dark). Edge midpoints use the cubic through
+                // the four lattice points on their line; cell centres 2·(axis mean) − (diagonal mean), which is
+                // exact for any quadratic. The curvature each scheme drops decides where a hemicube is needed.
+                bool ok = false;
+                glm::dvec3 estimate(0.0);
+                double curvature = 0.0, scale = 0.0;
+                if (phase == Phase::EdgeMidpoints) {
+                    const int ux = oddX ? step : 0, uy = oddY ? step : 0;
+                    glm::dvec3 b, c, a, d;
+                    if (valueAt(-ux, -uy, b) && valueAt(ux, uy, c)) {
+                        ok = true;
+                        scale = std::max(channelSum(b), channelSum(c));
+                        if (valueAt(-3 * ux, -3 * uy, a) && valueAt(3 * ux, 3 * uy, d)) {
+                            estimate = (9.0 * (b + c) - a - d) / 16.0;
+                            curvature = std::abs(channelSum(-a + b + c - d)) / 16.0;  // |cubic − linear| at the midpoint
+                        } else {
+                            estimate = 0.5 * (b + c);
+                            curvature = std::abs(channelSum(b - c));  // at a chart edge: plain agreement
+                        }
+                    }
+                } else {
+                    glm::dvec3 c00, c10, c01, c11, l, r, u, dn;
+                    if (valueAt(-step, -step, c00) && valueAt(step, -step, c10) && valueAt(-step, step, c01) &&
+                        valueAt(step, step, c11)) {
+                        ok = true;
+                        const glm::dvec3 diagonal = 0.25 * (c00 + c10 + c01 + c11);
+                        scale = std::max({channelSum(c00), channelSum(c10), channelSum(c01), channelSum(c11)});
+                        curvature = std::abs(channelSum(c00 + c11 - c10 - c01)) / 2.0;  // the twist term
+                        estimate = diagonal;
+                        if (valueAt(-step, 0, l) && valueAt(step, 0, r) && valueAt(0, -step, u) && valueAt(0, step, dn)) {
+                            const glm::dvec3 axis = 0.25 * (l + r + u + dn);
+                            estimate = 2.0 * axis - diagonal;
+                            curvature = std::max(curvature, std::abs(channelSum(axis - diagonal)));
+                        }
+                    }
+                }
+                if (ok && curvature <= ls.interpolationTolerance * (scale + floor)) {
+                    value[i] = glm::max(estimate, glm::dvec3(0.0));
+                    done[i] = 1;
+                    ++stats.interpolated;
+                } else {
+                    batch.push_back(std::uint32_t(i));
+                }
+            }
+            render(phase, step);
+        }
     }
 }
 

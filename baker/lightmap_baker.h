@@ -23,7 +23,7 @@ struct LightmapStats {
     std::size_t rendered = 0;      // texels that rendered a hemicube
     std::size_t interpolated = 0;  // texels interpolated from agreeing lattice neighbours
     std::size_t invalid = 0;       // texels inside geometry (mostly back faces seen), refilled from neighbours
-    std::size_t dilated = 0;       // padding texels filled (by dilate(), after seam stitching)
+    std::size_t dilated = 0;       // padding texels filled (by dilate(), before seam stitching)
     double renderedFraction() const { return texels ? double(rendered) / double(texels) : 0.0; }
 };
 

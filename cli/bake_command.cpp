@@ -180,9 +180,10 @@ int runBake(const BakeOptions& o) {
         [&](std::size_t done, std::size_t total) {
             progress.update("lightmaps: " + std::to_string(done) + " / " + std::to_string(total) + " texels");
         });
-    // Seams first, so the padding that dilation fills sees the stitched values.
-    const SeamStats seams = stitchSeams(scene, atlas, images, settings.lightmap.stitchSeams);
+    // Dilation first: bilinear taps at a seam reach into the padding, so stitching must see (and adjust) the
+    // final padding values, or dilating afterwards would reopen the seams it closed.
     for (LightmapImage& image : images) lightmapStats.dilated += dilate(image, settings.lightmap.dilationTexels);
+    const SeamStats seams = stitchSeams(scene, atlas, images, settings.lightmap.stitchSeams);
     report.timings.push_back({"lightmaps", clock.lap()});
     nlohmann::json surfaces = nlohmann::json::array();
     double worstSurface = 0.0;

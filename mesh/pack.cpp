@@ -216,7 +216,9 @@ public:
     Mark mark() const { return {journal_.size(), curW_, curH_}; }
     void rollback(const Mark& m) {
         while (journal_.size() > m.journal) {
-            const auto [row, run] = journal_.back();
+            const auto entry = journal_.back();  // not a structured binding: lambdas capture those only from C++20/clang 16
+            const auto row = entry.first;
+            const Run run = entry.second;
             journal_.pop_back();
             auto& occ = occupied_[std::size_t(row)];
             auto it = std::find_if(occ.begin(), occ.end(), [&](const Run& r) { return r.a == run.a && r.b == run.b; });

@@ -129,10 +129,22 @@ std::vector<AtlasTexels> computeTexels(const Scene& scene, const UvAtlas& atlas,
                 const auto& p = mesh.point(SurfaceMesh::VertexHandle(ui.vertexSource[tri[std::size_t(j)]]));
                 P[j] = {p[0], p[1], p[2]};
             }
+            glm::dvec3 bary = s.bary;
+            if (s.dist2 > 0.0 && settings.borderInsetTexels > 0.0) {
+                // Step from the chart's edge toward the triangle's centroid: an edge is often a concave corner
+                // (wall meets floor), where any sample point — hemicube eye or ray origin — sits at the singular
+                // contact line. The step stays on the segment to the centroid, so inside the triangle.
+                glm::dvec2 uv[3];
+                for (int j = 0; j < 3; ++j) uv[j] = glm::dvec2(ui.uv[tri[std::size_t(j)]]) * double(S);
+                const glm::dvec2 q = bary.x * uv[0] + bary.y * uv[1] + bary.z * uv[2];
+                const glm::dvec2 c = (uv[0] + uv[1] + uv[2]) / 3.0;
+                const double d = glm::length(c - q);
+                if (d > 0.0) bary += std::min(0.5, settings.borderInsetTexels / d) * (glm::dvec3(1.0 / 3.0) - bary);
+            }
             const glm::dvec3 cr = glm::cross(P[1] - P[0], P[2] - P[0]);
             const double len = glm::length(cr);
             const glm::dvec3 nrm = len > 0.0 ? cr / len : glm::dvec3(0.0);
-            const glm::dvec3 pos = s.bary.x * P[0] + s.bary.y * P[1] + s.bary.z * P[2];
+            const glm::dvec3 pos = bary.x * P[0] + bary.y * P[1] + bary.z * P[2];
             const double scale = 1.0 + std::max({std::abs(pos.x), std::abs(pos.y), std::abs(pos.z)});
             at.x.push_back(std::uint16_t(s.texel % std::uint64_t(S)));
             at.y.push_back(std::uint16_t(s.texel / std::uint64_t(S)));
@@ -140,7 +152,7 @@ std::vector<AtlasTexels> computeTexels(const Scene& scene, const UvAtlas& atlas,
             at.normal.push_back(glm::vec3(nrm));
             at.instance.push_back(s.instance);
             at.face.push_back(ui.faceSource[s.triangle]);
-            at.barycentric.push_back(glm::vec3(s.bary));
+            at.barycentric.push_back(glm::vec3(bary));
             at.centreInside.push_back(s.dist2 == 0.0 ? 1 : 0);
         }
     }

@@ -4,8 +4,10 @@
 // Coverage is conservative: every texel that a chart triangle touches (overlaps by more than
 // kCoverageShrinkTexels = 1e-3 texel, which absorbs float rounding of the stored UVs) gets exactly one sample.
 // The sample point is the texel centre when the centre lies inside a triangle of the atlas, else the closest
-// point (in UV) on the triangles touching the texel; among several candidates (neighbouring triangles, or
-// overlapping existing UVs) the closest wins, ties going to the first in chart order. The world position is
+// point (in UV) on the triangles touching the texel, stepped borderInsetTexels toward that triangle's centroid
+// (at most half way): chart edges are often concave corners, where every estimator — hemicube or path tracer —
+// is at its worst. Among several candidates (neighbouring triangles, or overlapping existing UVs) the closest
+// wins, ties going to the first in chart order. The world position is
 // interpolated in double with the sample's barycentric coordinates; the normal is the face's geometric normal
 // (the side counter-clockwise winding faces).
 //
@@ -25,6 +27,7 @@ namespace hemibake {
 struct TexelSettings {
     double normalOffsetRelative = 1e-5;
     double coverageShrinkTexels = kCoverageShrinkTexels;
+    double borderInsetTexels = 0.25;  // texels whose centre is outside the chart sample this far inside it
 };
 
 // The covered texels of one atlas as structure-of-arrays, in row-major order (y, then x).
