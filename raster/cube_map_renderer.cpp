@@ -2,6 +2,8 @@
 
 #include <string>
 
+#include "raster/chunk_culling.h"
+
 namespace hemibake {
 
 namespace {
@@ -40,14 +42,6 @@ void main() {
                               : vec4(0.0, 0.0, 0.0, -distance);
 }
 )";
-
-// Largest value of plane·(p − eye) over the box: the box is outside the half-space when it is negative.
-float maxAlongPlane(const glm::vec3& plane, const SceneBuffers::Chunk& chunk, const glm::vec3& eye) {
-    const glm::vec3 corner(plane.x >= 0.0f ? chunk.boundsMax.x : chunk.boundsMin.x,
-                           plane.y >= 0.0f ? chunk.boundsMax.y : chunk.boundsMin.y,
-                           plane.z >= 0.0f ? chunk.boundsMax.z : chunk.boundsMin.z);
-    return glm::dot(plane, corner - eye);
-}
 
 CubeFaceBasis makeFace(glm::dvec3 forward, glm::dvec3 up) { return {forward, glm::cross(forward, up), up}; }
 

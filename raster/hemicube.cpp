@@ -5,6 +5,9 @@
 #include <numbers>
 #include <string>
 
+#include "mesh/frame_math.h"
+#include "raster/chunk_culling.h"
+
 namespace hemibake {
 
 namespace {
@@ -49,21 +52,6 @@ void main() {
     radiance = gl_FrontFacing ? vec4(texelFetch(elementRadiance, int(element)).rgb, 1.0) : vec4(0.0, 0.0, 0.0, 2.0);
 }
 )";
-
-std::uint64_t splitMix64(std::uint64_t x) {
-    x += 0x9E3779B97F4A7C15ull;
-    x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
-    x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
-    return x ^ (x >> 31);
-}
-
-// Largest value of plane·(p - eye) over the box: the box is outside the half-space when it is negative.
-float maxAlongPlane(const glm::vec3& plane, const SceneBuffers::Chunk& chunk, const glm::vec3& eye) {
-    const glm::vec3 corner(plane.x >= 0.0f ? chunk.boundsMax.x : chunk.boundsMin.x,
-                           plane.y >= 0.0f ? chunk.boundsMax.y : chunk.boundsMin.y,
-                           plane.z >= 0.0f ? chunk.boundsMax.z : chunk.boundsMin.z);
-    return glm::dot(plane, corner - eye);
-}
 
 }  // namespace
 

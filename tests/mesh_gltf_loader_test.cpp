@@ -90,6 +90,21 @@ TEST(GltfLoader, MatrixTransformAndHierarchyCompose) {
     EXPECT_EQ(scene.report.meshNodes, 1u);
 }
 
+TEST(GltfLoader, ProbeNodesGiveWorldPositions) {
+    TempDir dir;
+    GltfFixture g = hemibake::test::unitQuadFixture();
+    // A probe under a translated parent, one flagged false, one with a non-boolean flag: only the first counts.
+    const int probe = g.addChildNode({{"name", "probe"}, {"translation", {1.0, 2.0, 3.0}}, {"extras", {{"hemibake_probe", true}}}});
+    g.addNode({{"name", "group"}, {"translation", {0.0, 0.5, 0.0}}, {"children", {probe}}});
+    g.addNode({{"name", "off"}, {"translation", {9.0, 9.0, 9.0}}, {"extras", {{"hemibake_probe", false}}}});
+    g.addNode({{"name", "odd"}, {"translation", {7.0, 7.0, 7.0}}, {"extras", {{"hemibake_probe", "yes"}}}});
+    const Scene scene = loadGltf(g.writeGltf(dir, "probes"));
+    ASSERT_EQ(scene.probePositions.size(), 1u);
+    EXPECT_NEAR(scene.probePositions[0].x, 1.0, 1e-12);
+    EXPECT_NEAR(scene.probePositions[0].y, 2.5, 1e-12);
+    EXPECT_NEAR(scene.probePositions[0].z, 3.0, 1e-12);
+}
+
 TEST(GltfLoader, MirroringTransformKeepsFrontFaceUp) {
     TempDir dir;
     GltfFixture g = hemibake::test::unitQuadFixture();
