@@ -8,18 +8,15 @@
 #include "mesh/charts.h"
 #include "mesh/scene_builder.h"
 #include "mesh/uv_atlas.h"
+#include "support/test_meshes.h"
 
 namespace hemibake {
 namespace {
 
-using Tri = std::array<int, 3>;
-
-Scene singleMesh(const std::vector<glm::dvec3>& p, const std::vector<Tri>& t) {
-    SceneBuilder b;
-    const int m = b.addMaterial(glm::vec3(0.5f));
-    b.addTriangles(p, t, m, "mesh");
-    return b.build();
-}
+using test::Tri;
+using test::singleMesh;
+using test::torus;
+using test::uvSphere;
 
 // A closed box as one mesh with 8 shared corners, outward facing.
 Scene closedBox() {
@@ -31,44 +28,6 @@ Scene closedBox() {
         t.push_back({f[0], f[1], f[2]});
         t.push_back({f[0], f[2], f[3]});
     }
-    return singleMesh(p, t);
-}
-
-Scene uvSphere(int nu, int nv) {
-    std::vector<glm::dvec3> p{{0, 1, 0}};
-    for (int j = 1; j < nv; ++j)
-        for (int i = 0; i < nu; ++i) {
-            const double th = M_PI * j / nv, ph = 2 * M_PI * i / nu;
-            p.push_back({std::sin(th) * std::cos(ph), std::cos(th), -std::sin(th) * std::sin(ph)});
-        }
-    p.push_back({0, -1, 0});
-    const int south = int(p.size()) - 1;
-    auto id = [&](int j, int i) { return 1 + (j - 1) * nu + (i % nu); };
-    std::vector<Tri> t;
-    for (int i = 0; i < nu; ++i) t.push_back({0, id(1, i), id(1, i + 1)});
-    for (int j = 1; j < nv - 1; ++j)
-        for (int i = 0; i < nu; ++i) {
-            t.push_back({id(j, i), id(j + 1, i), id(j + 1, i + 1)});
-            t.push_back({id(j, i), id(j + 1, i + 1), id(j, i + 1)});
-        }
-    for (int i = 0; i < nu; ++i) t.push_back({id(nv - 1, i), south, id(nv - 1, i + 1)});
-    return singleMesh(p, t);
-}
-
-Scene torus(int nu, int nv, double R, double r) {
-    std::vector<glm::dvec3> p;
-    for (int j = 0; j < nv; ++j)
-        for (int i = 0; i < nu; ++i) {
-            const double u = 2 * M_PI * i / nu, v = 2 * M_PI * j / nv;
-            p.push_back({(R + r * std::cos(v)) * std::cos(u), r * std::sin(v), -(R + r * std::cos(v)) * std::sin(u)});
-        }
-    auto id = [&](int j, int i) { return (j % nv) * nu + (i % nu); };
-    std::vector<Tri> t;
-    for (int j = 0; j < nv; ++j)
-        for (int i = 0; i < nu; ++i) {
-            t.push_back({id(j, i), id(j, i + 1), id(j + 1, i + 1)});
-            t.push_back({id(j, i), id(j + 1, i + 1), id(j + 1, i)});
-        }
     return singleMesh(p, t);
 }
 

@@ -11,49 +11,14 @@
 #include "mesh/pack.h"
 #include "mesh/scene_builder.h"
 #include "mesh/uv_atlas.h"
+#include "support/test_meshes.h"
 
 namespace hemibake {
 namespace {
 
-using Tri = std::array<int, 3>;
-
-void addSphere(SceneBuilder& b, int m, int nu, int nv, double r, glm::dvec3 c) {
-    std::vector<glm::dvec3> p{c + glm::dvec3(0, r, 0)};
-    for (int j = 1; j < nv; ++j)
-        for (int i = 0; i < nu; ++i) {
-            const double th = M_PI * j / nv, ph = 2 * M_PI * i / nu;
-            p.push_back(c + r * glm::dvec3(std::sin(th) * std::cos(ph), std::cos(th), -std::sin(th) * std::sin(ph)));
-        }
-    p.push_back(c - glm::dvec3(0, r, 0));
-    const int south = int(p.size()) - 1;
-    auto id = [&](int j, int i) { return 1 + (j - 1) * nu + (i % nu); };
-    std::vector<Tri> t;
-    for (int i = 0; i < nu; ++i) t.push_back({0, id(1, i), id(1, i + 1)});
-    for (int j = 1; j < nv - 1; ++j)
-        for (int i = 0; i < nu; ++i) {
-            t.push_back({id(j, i), id(j + 1, i), id(j + 1, i + 1)});
-            t.push_back({id(j, i), id(j + 1, i + 1), id(j, i + 1)});
-        }
-    for (int i = 0; i < nu; ++i) t.push_back({id(nv - 1, i), south, id(nv - 1, i + 1)});
-    b.addTriangles(p, t, m, "sphere");
-}
-
-void addTorus(SceneBuilder& b, int m, int nu, int nv, double R, double r) {
-    std::vector<glm::dvec3> p;
-    for (int j = 0; j < nv; ++j)
-        for (int i = 0; i < nu; ++i) {
-            const double u = 2 * M_PI * i / nu, v = 2 * M_PI * j / nv;
-            p.push_back({(R + r * std::cos(v)) * std::cos(u), r * std::sin(v), -(R + r * std::cos(v)) * std::sin(u)});
-        }
-    auto id = [&](int j, int i) { return (j % nv) * nu + (i % nu); };
-    std::vector<Tri> t;
-    for (int j = 0; j < nv; ++j)
-        for (int i = 0; i < nu; ++i) {
-            t.push_back({id(j, i), id(j, i + 1), id(j + 1, i + 1)});
-            t.push_back({id(j, i), id(j + 1, i + 1), id(j + 1, i)});
-        }
-    b.addTriangles(p, t, m, "torus");
-}
+using test::addSphere;
+using test::addTorus;
+using test::Tri;
 
 // A closed box as one instance (8 shared corners).
 void addClosedBox(SceneBuilder& b, int m, glm::dvec3 lo, glm::dvec3 hi) {
