@@ -10,6 +10,7 @@
 #include "baker/probe_io.h"
 #include "baker/volume_lookup.h"
 #include "mesh/errors.h"
+#include "support/gltf_fixture.h"
 #include "support/raster_fixtures.h"
 
 namespace hemibake {
@@ -135,8 +136,8 @@ TEST(IrradianceVolume, ProbesInsideTheWallAreRelocatedOrInvalid) {
 TEST(ProbeIo, VolumeRoundTripAndProbePositions) {
     namespace fs = std::filesystem;
     const TwoRooms& r = twoRooms();
-    const fs::path dir = fs::temp_directory_path() / ("hemibake-volume-io-" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()));
-    fs::remove_all(dir);
+    const hemibake::test::TempDir temp;  // unique per run: suites of concurrent checkouts must not share it
+    const fs::path dir = temp.path() / "volume";
     const auto files = writeIrradianceVolume(dir, r.volume, ProbeBakeSettings{}, r.stats);
     EXPECT_EQ(files.size(), 3u);
     EXPECT_EQ(fs::file_size(dir / "volume.bin"), r.volume.probeCount() * kVolumeRecordBytes);

@@ -12,17 +12,17 @@
 #include "support/gltf_fixture.h"
 
 using hemibake::test::runHemibake;
+using hemibake::test::TempDir;
 
 namespace {
 
 namespace fs = std::filesystem;
 
 // 2×2×2 probes over [0,1]³, constant radiance L = 1 + x (grid index) in red, 0.5 in green: E/π = L for every
-// normal. The probe at (1, 1, 1) is invalid and holds garbage that must not show.
-fs::path writeVolume() {
-    const fs::path dir = fs::temp_directory_path() / "hemibake-cli-sample-volume";
-    fs::remove_all(dir);
-    fs::create_directories(dir);
+// normal. The probe at (1, 1, 1) is invalid and holds garbage that must not show. Each test writes into its own
+// fresh folder: CTest runs the tests of this file in parallel.
+fs::path writeVolume(const TempDir& temp) {
+    const fs::path dir = temp.path();
     nlohmann::json j = {{"format", "hemibake-volume/1"},
                         {"min", {0, 0, 0}},
                         {"max", {1, 1, 1}},
@@ -46,7 +46,8 @@ fs::path writeVolume() {
 }
 
 TEST(CliSampleVolume, PrintsInterpolatedIrradiance) {
-    const fs::path dir = writeVolume();
+    const TempDir temp;
+    const fs::path dir = writeVolume(temp);
     const auto r = runHemibake({"sample-volume", dir.string(), "0.25", "0.5", "0.5", "0", "1", "0", "--json",
                              "--weighting", "trilinear"});
     ASSERT_EQ(r.exitCode, 0) << r.err;
@@ -63,11 +64,11 @@ TEST(CliSampleVolume, PrintsInterpolatedIrradiance) {
     double red = 0, green = 0, blue = 0;
     ASSERT_EQ(std::sscanf(plain.out.c_str(), "%lf %lf %lf", &red, &green, &blue), 3) << plain.out;
     EXPECT_GT(red, 10.0);  // naive weighting uses the invalid probe (E/π ≈ 282 at weight 1/16): that is what it is for
-    fs::remove_all(dir);
 }
 
 TEST(CliSampleVolume, BadInputAndBadCommandLine) {
-    const fs::path dir = writeVolume();
+    const TempDir temp;
+    const fs::path dir = writeVolume(temp);
     fs::resize_file(dir / "volume.bin", 100);
     const auto truncated = runHemibake({"sample-volume", dir.string(), "0", "0", "0", "0", "1", "0"});
     EXPECT_EQ(truncated.exitCode, 1);
@@ -76,7 +77,6 @@ TEST(CliSampleVolume, BadInputAndBadCommandLine) {
     EXPECT_EQ(missing.exitCode, 1);
     EXPECT_EQ(runHemibake({"sample-volume", dir.string(), "0", "0", "0"}).exitCode, 2);
     EXPECT_EQ(runHemibake({"sample-volume", dir.string(), "0", "0", "0", "0", "0", "0"}).exitCode, 2);
-    fs::remove_all(dir);
 }
 
 }  // namespace
