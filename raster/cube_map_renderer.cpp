@@ -3,6 +3,7 @@
 #include <string>
 
 #include "raster/chunk_culling.h"
+#include "raster/reversed_z.h"
 
 namespace hemibake {
 
@@ -110,14 +111,7 @@ void CubeMapRenderer::render(const glm::dvec3& position, glm::vec3 skyRadiance, 
     gl.BindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
     const GLenum drawBuffer = GL_COLOR_ATTACHMENT0;
     gl.DrawBuffers(1, &drawBuffer);
-    gl.ClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
-    gl.Disable(GL_CULL_FACE);
-    gl.Disable(GL_SCISSOR_TEST);  // scissor would restrict the clears
-    gl.Enable(GL_DEPTH_TEST);
-    gl.DepthFunc(GL_GREATER);
-    gl.DepthMask(GL_TRUE);
-    const GLfloat farDepth = 0.0f;
-    gl.ClearBufferfv(GL_DEPTH, 0, &farDepth);
+    beginReversedZPass(gl);
     const GLfloat sky[4] = {skyRadiance.x, skyRadiance.y, skyRadiance.z, 0.0f};
     gl.ClearBufferfv(GL_COLOR, 0, sky);
     gl.Enable(GL_SCISSOR_TEST);  // guard-band rasterisers may otherwise spill into a neighbouring face

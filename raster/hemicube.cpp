@@ -7,6 +7,7 @@
 
 #include "mesh/frame_math.h"
 #include "raster/chunk_culling.h"
+#include "raster/reversed_z.h"
 
 namespace hemibake {
 
@@ -161,14 +162,7 @@ void HemicubeRenderer::draw(const HemicubeFrame& frame, Target target, glm::vec3
     const GLenum drawBuffers[2] = {items ? GLenum(GL_COLOR_ATTACHMENT0) : GLenum(GL_NONE),
                                    items ? GLenum(GL_NONE) : GLenum(GL_COLOR_ATTACHMENT1)};
     gl.DrawBuffers(2, drawBuffers);
-    gl.ClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
-    gl.Disable(GL_CULL_FACE);
-    gl.Disable(GL_SCISSOR_TEST);  // scissor would restrict the clears
-    gl.Enable(GL_DEPTH_TEST);
-    gl.DepthFunc(GL_GREATER);
-    gl.DepthMask(GL_TRUE);
-    const GLfloat farDepth = 0.0f;
-    gl.ClearBufferfv(GL_DEPTH, 0, &farDepth);
+    beginReversedZPass(gl);
     if (items) {
         const GLuint sky[4] = {kSkyId, 0, 0, 0};
         gl.ClearBufferuiv(GL_COLOR, 0, sky);

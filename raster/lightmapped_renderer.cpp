@@ -5,6 +5,7 @@
 #include <string>
 
 #include "raster/gl_object.h"
+#include "raster/reversed_z.h"
 
 namespace hemibake {
 
@@ -86,12 +87,7 @@ std::vector<glm::vec3> renderLightmapped(const GlContext& context, const std::ve
     const GLint doubleSidedLocation = gl.GetUniformLocation(program.id(), "doubleSided");
 
     gl.Viewport(0, 0, width, height);
-    gl.ClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
-    gl.Enable(GL_DEPTH_TEST);
-    gl.DepthFunc(GL_GREATER);
-    gl.Disable(GL_CULL_FACE);
-    const float farDepth = 0.0f;
-    gl.ClearBufferfv(GL_DEPTH, 0, &farDepth);
+    beginReversedZPass(gl);
     const float sky[4] = {background.x, background.y, background.z, 0.0f};
     gl.ClearBufferfv(GL_COLOR, 0, sky);
 
