@@ -24,6 +24,7 @@ nlohmann::json settingsToJson(const BakeSettings& s) {
             {"maxGatherSweeps", s.solver.maxGatherSweeps},
             {"ambientCorrection", s.solver.ambientCorrection},
             {"proximityFactor", s.solver.proximityFactor},
+            {"formFactorCacheMiB", s.solver.formFactorCacheMiB},
             {"threads", s.solver.threads},
             {"seed", s.solver.seed},
             {"adaptiveLevels", s.adaptive.levels},
@@ -31,7 +32,10 @@ nlohmann::json settingsToJson(const BakeSettings& s) {
             {"skyRadiance", vec(s.lighting.skyRadiance)},
             {"skySamplesPerElement", s.lighting.skySamplesPerElement},
             {"sunAngularDiameterRad", s.lighting.sunAngularDiameterRad},
-            {"lightSamplesPerElement", s.lighting.lightSamplesPerElement}};
+            {"lightSamplesPerElement", s.lighting.lightSamplesPerElement},
+            {"emitters", emitterLightingName(s.lighting.emitters)},
+            {"emitterSamples", s.lighting.emitterSamples},
+            {"maxRayTracedEmitters", s.lighting.maxRayTracedEmitters}};
 }
 
 nlohmann::json BakeReport::toJson() const {
@@ -55,6 +59,9 @@ nlohmann::json BakeReport::toJson() const {
     j["convergence"] = {{"stopReason", solve.stopReason},
                         {"shots", solve.shots},
                         {"hemicubes", solve.hemicubes},
+                        {"cachedShots", solve.cachedShots},
+                        {"emittersByRays", solve.emittersByRays},
+                        {"formFactorCacheMiB", double(solve.formFactorCacheBytes) / 1048576.0},
                         {"gatherSweeps", solve.gatherSweeps},
                         {"unshotFraction", solve.unshotFraction},
                         {"errorBound", solve.errorBound},

@@ -20,4 +20,14 @@ SolverKind parseSolverKind(const std::string& name) {
     throw std::invalid_argument("unknown solver '" + name + "' (shoot, gather or hybrid)");
 }
 
+const char* emitterLightingName(EmitterLighting mode) {
+    return mode == EmitterLighting::Rays ? "rays" : "hemicube";
+}
+
+EmitterLighting parseEmitterLighting(const std::string& name) {
+    if (name == "rays") return EmitterLighting::Rays;
+    if (name == "hemicube") return EmitterLighting::Hemicube;
+    throw std::invalid_argument("unknown emitter lighting '" + name + "' (rays or hemicube)");
+}
+
 }  // namespace hemibake

@@ -27,6 +27,9 @@ struct SolverSettings {
     // A patch re-shoots from one hemicube per element when something is nearer than this × the patch's size
     // (GROUND_TRUTH §3.4: one centred hemicube is 4.8 % low for hinged squares, 16 points 0.01 %).
     double proximityFactor = 2.0;
+    // Form-factor rows kept for patches that shoot again (0 = render every shot). Rows cost ≈ 8 bytes per
+    // element a patch sees.
+    double formFactorCacheMiB = 1024.0;
     int threads = 0;                    // 0 = all cores
     std::uint64_t seed = 1;             // hemicube rotations and sampling
 };
@@ -57,7 +60,15 @@ struct LightmapSettings {
     bool keepExistingUv = false;    // use TEXCOORD_1 from the input where present
 };
 
+enum class EmitterLighting {
+    Hemicube,  // emitters shoot their power through item-buffer hemicubes like every other patch
+    Rays,      // direct light from emitters by Lambert's formula and shadow rays (EmissiveAreaLights); bounces shoot
+};
+
 struct LightingSettings {
+    EmitterLighting emitters = EmitterLighting::Hemicube;
+    int emitterSamples = 16;            // shadow rays per point towards emissive surfaces (Rays)
+    int maxRayTracedEmitters = 4096;    // more emitting elements than this: fall back to Hemicube (cost per point)
     glm::vec3 skyRadiance{0.0f};        // uniform sky, W·m⁻²·sr⁻¹, seen where rays and hemicube pixels escape
     int skySamplesPerElement = 64;      // cosine-weighted visibility rays for direct sky light
     float sunAngularDiameterRad = 0.0f; // > 0: directional lights become soft-shadowed discs
@@ -74,6 +85,8 @@ struct BakeSettings {
 };
 
 const char* solverKindName(SolverKind kind);
+const char* emitterLightingName(EmitterLighting mode);
+EmitterLighting parseEmitterLighting(const std::string& name);  // throws std::invalid_argument
 SolverKind parseSolverKind(const std::string& name);  // throws std::invalid_argument
 
 }  // namespace hemibake

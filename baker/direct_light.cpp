@@ -1,4 +1,5 @@
 #include "baker/direct_light.h"
+#include "baker/emissive_area_lights.h"
 #include "mesh/frame_math.h"
 
 #include <algorithm>
@@ -33,8 +34,9 @@ double unitFloat(std::uint32_t bits) { return double(bits >> 8) * (1.0 / 1677721
 
 }  // namespace
 
-DirectLight::DirectLight(const Scene& scene, const EmbreeScene& rays, DirectLightSettings settings)
-    : scene_(scene), rays_(rays), settings_(settings) {
+DirectLight::DirectLight(const Scene& scene, const EmbreeScene& rays, DirectLightSettings settings,
+                         const EmissiveAreaLights* areaLights)
+    : scene_(scene), rays_(rays), settings_(settings), areaLights_(areaLights) {
     if (!(settings_.sunAngularDiameterRad >= 0.0f && settings_.sunAngularDiameterRad < float(M_PI)))
         throw std::invalid_argument("DirectLight: sunAngularDiameterRad must be in [0, pi)");
     if (settings_.sunSamples < 1) throw std::invalid_argument("DirectLight: sunSamples must be at least 1");
@@ -43,7 +45,9 @@ DirectLight::DirectLight(const Scene& scene, const EmbreeScene& rays, DirectLigh
 glm::dvec3 DirectLight::irradianceOverPiAt(const glm::dvec3& p, const glm::vec3& n, std::uint32_t seed) const {
     const glm::dvec3 normal = glm::normalize(glm::dvec3(n));
     glm::dvec3 sum(0.0);
-    for (const PunctualLight& light : scene_.lights) sum += fromLight(light, p, normal, seed);
+    if (settings_.punctualLights)
+        for (const PunctualLight& light : scene_.lights) sum += fromLight(light, p, normal, seed);
+    if (areaLights_) sum += areaLights_->irradianceOverPiAt(p, normal, std::uint64_t(seed) * 0x9E3779B97F4A7C15ull + 1);
     return sum;
 }
 

@@ -1,7 +1,8 @@
 #pragma once
 // Direct light from KHR_lights_punctual lights with shadow rays, as E/π (W·m⁻²·sr⁻¹): what a lightmap texel
-// stores, restricted to the light that arrives straight from punctual lights. Emissive surfaces (the radiosity
-// shooter's job) and the sky are not handled here.
+// stores, restricted to the light that arrives straight from punctual lights and, when given, from emissive
+// surfaces lit by rays (EmissiveAreaLights; otherwise they are the radiosity shooter's job). The sky is not
+// handled here.
 #include <cstdint>
 #include <vector>
 
@@ -19,12 +20,17 @@ struct DirectLightSettings {
     float sunAngularDiameterRad = 0.0f;
     int sunSamples = 16;    // stratified shadow rays over the sun disk (when its diameter is > 0)
     bool useRange = false;  // honour PunctualLight::range with the KHR_lights_punctual window
+    bool punctualLights = true;  // false: only the area lights (the solver's power ledger keeps them apart)
 };
+
+class EmissiveAreaLights;
 
 class DirectLight {
 public:
-    // `scene` and `rays` must outlive this object. Throws std::invalid_argument on bad settings.
-    DirectLight(const Scene& scene, const EmbreeScene& rays, DirectLightSettings settings);
+    // `scene`, `rays` and `areaLights` (optional: emissive surfaces lit by rays) must outlive this object.
+    // Throws std::invalid_argument on bad settings.
+    DirectLight(const Scene& scene, const EmbreeScene& rays, DirectLightSettings settings,
+                const EmissiveAreaLights* areaLights = nullptr);
 
     // E/π at surface point p with unit normal n (the receiving side). `seed` decorrelates the sun-disk jitter
     // between points; with a hard sun the result does not depend on it.
@@ -43,6 +49,7 @@ private:
     const Scene& scene_;
     const EmbreeScene& rays_;
     DirectLightSettings settings_;
+    const EmissiveAreaLights* areaLights_;
 };
 
 // elementIrradianceOverPi for every element, in parallel (oneTBB); index = element index.

@@ -7,6 +7,7 @@
 
 #include "baker/direct_light.h"
 #include "baker/element_interpolation.h"
+#include "baker/emissive_area_lights.h"
 #include "baker/embree_scene.h"
 #include "baker/gatherer.h"
 #include "raster/hemicube_pool.h"
@@ -41,7 +42,8 @@ bool continuous(const AtlasTexels& t, std::size_t a, std::size_t b, double maxDi
 void placeAdaptively(const AtlasTexels& texels, const LightmapSettings& ls, double texelSizeM,
                      const std::function<void(const std::vector<std::uint32_t>&, std::vector<glm::dvec3>&,
                                               std::vector<float>&)>& gather,
-                     std::vector<glm::dvec3>& value, std::vector<std::uint8_t>& invalid, LightmapStats& stats,
+                     const std::vector<glm::dvec3>& direct, std::vector<glm::dvec3>& value,
+                     std::vector<std::uint8_t>& invalid, LightmapStats& stats,
                      const std::function<void(std::size_t)>& advanced) {
     const TexelGrid grid(texels);
     const std::size_t n = texels.count();
@@ -132,6 +134,9 @@ void placeAdaptively(const AtlasTexels& texels, const LightmapSettings& ls, doub
                         }
                     }
                 }
+                // The tolerance is relative to what the texel will hold: the gathered light plus the direct light
+                // added by rays afterwards (a faint bounce beside a bright direct term needs no hemicube).
+                if (!direct.empty()) scale += channelSum(direct[i]);
                 if (ok && curvature <= ls.interpolationTolerance * (scale + floor)) {
                     value[i] = glm::max(estimate, glm::dvec3(0.0));
                     done[i] = 1;
@@ -214,17 +219,24 @@ std::vector<LightmapImage> bakeLightmaps(const Scene& scene, const PatchMesh& me
     stats.texels = total;
     const double texelSizeM = atlas.texelsPerUnit > 0.0 ? 1.0 / atlas.texelsPerUnit : 0.0;
 
+    // Ray-traced direct light at every texel: punctual lights, and emitters when the solver ray traced them
+    // (same decision, same inputs); the gather then sees emitters without their emission.
+    const std::unique_ptr<EmissiveAreaLights> areaLights = makeEmissiveAreaLights(mesh, rays, settings.lighting);
     std::unique_ptr<DirectLight> direct;
-    if (!scene.lights.empty()) {
+    if (!scene.lights.empty() || areaLights) {
         DirectLightSettings ds;
         ds.sunAngularDiameterRad = settings.lighting.sunAngularDiameterRad;
-        direct = std::make_unique<DirectLight>(scene, rays, ds);
+        direct = std::make_unique<DirectLight>(scene, rays, ds, areaLights.get());
     }
     std::vector<glm::vec3> radiance(mesh.elements.size());
     std::vector<glm::dvec3> displayIrradiance(mesh.elements.size());
     for (std::size_t e = 0; e < mesh.elements.size(); ++e) {
-        radiance[e] = glm::vec3(solution.displayRadiosity(mesh, e) / M_PI);
+        radiance[e] = solution.gatherRadiance(mesh, e, areaLights != nullptr);
+        // Interpolated texels take only what the elements know better than a ray at the texel: the rest is
+        // evaluated per texel below, with its sharp shadows.
         displayIrradiance[e] = solution.displayIrradiance(e);
+        if (direct && e < solution.rayTracedIrradiance.size())
+            displayIrradiance[e] = glm::max(displayIrradiance[e] - solution.rayTracedIrradiance[e], glm::dvec3(0.0));
     }
     Gatherer gatherer(pool, settings.solver.seed ^ 0x5EEDull);
     if (ls.mode == TexelMode::Gather) gatherer.setElementRadiance(radiance);
@@ -242,18 +254,21 @@ std::vector<LightmapImage> bakeLightmaps(const Scene& scene, const PatchMesh& me
                 for (std::size_t k = 0; k < ids.size(); ++k) points[k] = {t.position[ids[k]], t.normal[ids[k]]};
                 gatherer.gather(points, settings.lighting.skyRadiance, a + 1, out, &backface);
             };
-            placeAdaptively(t, ls, texelSizeM, gather, value, invalid, stats, [&](std::size_t k) {
+            // Direct light at every texel: its shadows are as sharp as the texel grid allows.
+            std::vector<glm::dvec3> directValue;
+            if (direct) {
+                directValue.resize(t.count());
+                tbb::parallel_for(std::size_t(0), t.count(), [&](std::size_t i) {
+                    directValue[i] = direct->irradianceOverPiAt(t.position[i], t.normal[i], std::uint32_t(i * 2654435761u + a));
+                });
+            }
+            placeAdaptively(t, ls, texelSizeM, gather, directValue, value, invalid, stats, [&](std::size_t k) {
                 done += k;
                 if (progress) progress(done, total);
             });
             stats.invalid += std::size_t(std::count(invalid.begin(), invalid.end(), 1));
             refillInvalid(t, texelSizeM, value, invalid);
-            if (direct) {
-                // Punctual lights at every texel: their shadows are as sharp as the texel grid allows.
-                tbb::parallel_for(std::size_t(0), t.count(), [&](std::size_t i) {
-                    value[i] += direct->irradianceOverPiAt(t.position[i], t.normal[i], std::uint32_t(i * 2654435761u + a));
-                });
-            }
+            for (std::size_t i = 0; i < directValue.size(); ++i) value[i] += directValue[i];
         } else {
             value.assign(t.count(), glm::dvec3(0.0));
             const auto& inst = scene.instances;
@@ -262,6 +277,8 @@ std::vector<LightmapImage> bakeLightmaps(const Scene& scene, const PatchMesh& me
                 const auto sourceFace = std::uint32_t(m.sourceFace(SurfaceMesh::FaceHandle(t.face[i])));
                 const auto e = interpolator.locate(std::uint32_t(t.instance[i]), sourceFace, t.position[i]);
                 if (e) value[i] = interpolator.valueAt(*e, t.position[i]) / M_PI;
+                if (direct)
+                    value[i] += direct->irradianceOverPiAt(t.position[i], t.normal[i], std::uint32_t(i * 2654435761u + a));
             });
             done += t.count();
             if (progress) progress(done, total);

@@ -27,15 +27,14 @@ constexpr std::uint32_t kMaxSamplesPerPatch = 16;
 
 }  // namespace
 
-// One patch's shot: the radiosity it shoots and the area-averaged form factors to every element it sees.
+// One patch's shot: the radiosity it shoots and its row of area-averaged form factors to every element it sees
+// (the cache's, or its own when the cache is full).
 struct ProgressiveShooter::Shot {
     std::uint32_t patch = 0;
     glm::dvec3 deltaRadiosity{0.0};
-    std::vector<std::uint32_t> elements;
-    std::vector<double> formFactors;
-    double skyFraction = 0.0;
-    double backfaceFraction = 0.0;
-    std::uint32_t hemicubes = 0;
+    FormFactorRow own;
+    const FormFactorRow* row = nullptr;
+    std::uint32_t hemicubesRendered = 0;
     std::uint64_t seed = 0;
 };
 
@@ -49,7 +48,8 @@ struct ProgressiveShooter::MergeScratch {
 ProgressiveShooter::ProgressiveShooter(const PatchMesh& mesh, RadiositySolution& solution, HemicubePool& pool,
                                        const SolverSettings& settings)
     : mesh_(mesh), solution_(solution), pool_(pool), settings_(settings), queue_(mesh.patches.size()),
-      scratch_(std::make_unique<tbb::enumerable_thread_specific<MergeScratch>>()) {
+      scratch_(std::make_unique<tbb::enumerable_thread_specific<MergeScratch>>()),
+      cache_(std::make_unique<FormFactorCache>(mesh.patches.size(), std::size_t(settings.formFactorCacheMiB * 1048576.0))) {
     for (const glm::vec3& rho : mesh.elements.reflectance)
         maxReflectance_ = std::max({maxReflectance_, double(rho.x), double(rho.y), double(rho.z)});
 }
@@ -61,13 +61,14 @@ void ProgressiveShooter::addUnshot(std::uint32_t patch, const glm::dvec3& radios
     queue_.set(patch, channelSum(solution_.unshotRadiosity[patch]) * mesh_.patches.areaM2[patch]);
 }
 
-void ProgressiveShooter::injectEmission() {
+void ProgressiveShooter::injectEmission(bool shoot) {
     const ElementArrays& el = mesh_.elements;
     for (std::size_t e = 0; e < el.size(); ++e) {
         const glm::dvec3 exitance = M_PI * glm::dvec3(el.emittedRadiance[e]);
         if (channelSum(exitance) <= 0.0) continue;
         solution_.radiosity[e] += exitance;
         exitanceW_ += channelSum(exitance) * el.areaM2[e];
+        if (!shoot) continue;
         ledger_.injectedW += exitance * el.areaM2[e];
         addUnshot(el.patch[e], exitance * (el.areaM2[e] / mesh_.patches.areaM2[el.patch[e]]));
     }
@@ -87,21 +88,33 @@ void ProgressiveShooter::injectIrradiance(const std::vector<glm::dvec3>& irradia
 }
 
 void ProgressiveShooter::renderShot(std::uint32_t patch, Shot& shot) const {
+    if (const FormFactorRow* cached = cache_->find(patch)) {
+        shot.row = cached;
+        shot.hemicubesRendered = 0;
+        cache_->countHit();
+        return;
+    }
+    renderRow(patch, shot.seed, shot.own);
+    shot.hemicubesRendered = shot.own.hemicubes;
+    shot.row = cache_->store(patch, std::move(shot.own)) ? cache_->find(patch) : &shot.own;
+}
+
+void ProgressiveShooter::renderRow(std::uint32_t patch, std::uint64_t seed, FormFactorRow& row) const {
     HemicubeRenderer& renderer = pool_.local();
     MergeScratch& scratch = scratch_->local();
     const PatchArrays& pa = mesh_.patches;
     const ElementArrays& el = mesh_.elements;
 
-    HemicubeFrame frame = HemicubeFrame::randomlyRotated(pa.centroid[patch], glm::dvec3(pa.normal[patch]), shot.seed);
+    HemicubeFrame frame = HemicubeFrame::randomlyRotated(pa.centroid[patch], glm::dvec3(pa.normal[patch]), seed);
     renderer.renderFormFactors(frame, scratch.list);
-    shot.hemicubes = 1;
+    row.hemicubes = 1;
     const double patchSizeM = std::sqrt(2.0 * pa.areaM2[patch]);
     const std::uint32_t count = pa.elementCount[patch];
     if (count <= 1 || !(scratch.list.minDepthM < settings_.proximityFactor * patchSizeM)) {
-        shot.elements.assign(scratch.list.elements.begin(), scratch.list.elements.end());
-        shot.formFactors.assign(scratch.list.formFactors.begin(), scratch.list.formFactors.end());
-        shot.skyFraction = scratch.list.skyFraction;
-        shot.backfaceFraction = scratch.list.backfaceFraction;
+        row.elements.assign(scratch.list.elements.begin(), scratch.list.elements.end());
+        row.formFactors.assign(scratch.list.formFactors.begin(), scratch.list.formFactors.end());
+        row.skyFraction = scratch.list.skyFraction;
+        row.backfaceFraction = scratch.list.backfaceFraction;
         return;
     }
 
@@ -113,27 +126,27 @@ void ProgressiveShooter::renderShot(std::uint32_t patch, Shot& shot) const {
     const std::uint32_t first = pa.firstElement[patch];
     double sampledArea = 0.0;
     for (std::uint32_t s = 0; s < samples; ++s) sampledArea += el.areaM2[first + std::uint64_t(s) * count / samples];
-    shot.skyFraction = shot.backfaceFraction = 0.0;
-    shot.hemicubes = 0;
+    row.skyFraction = row.backfaceFraction = 0.0;
+    row.hemicubes = 0;
     for (std::uint32_t s = 0; s < samples; ++s) {
         const std::uint32_t e = first + std::uint32_t(std::uint64_t(s) * count / samples);
         const double w = el.areaM2[e] / sampledArea;
-        frame = HemicubeFrame::randomlyRotated(el.centroid[e], glm::dvec3(el.normal[e]), shot.seed * 1315423911u + s);
+        frame = HemicubeFrame::randomlyRotated(el.centroid[e], glm::dvec3(el.normal[e]), seed * 1315423911u + s);
         renderer.renderFormFactors(frame, scratch.list);
-        ++shot.hemicubes;
+        ++row.hemicubes;
         for (std::size_t k = 0; k < scratch.list.size(); ++k) {
             const std::uint32_t j = scratch.list.elements[k];
             if (scratch.dense[j] == 0.0) scratch.touched.push_back(j);
             scratch.dense[j] += w * scratch.list.formFactors[k];
         }
-        shot.skyFraction += w * scratch.list.skyFraction;
-        shot.backfaceFraction += w * scratch.list.backfaceFraction;
+        row.skyFraction += w * scratch.list.skyFraction;
+        row.backfaceFraction += w * scratch.list.backfaceFraction;
     }
-    shot.elements.clear();
-    shot.formFactors.clear();
+    row.elements.clear();
+    row.formFactors.clear();
     for (std::uint32_t j : scratch.touched) {
-        shot.elements.push_back(j);
-        shot.formFactors.push_back(scratch.dense[j]);
+        row.elements.push_back(j);
+        row.formFactors.push_back(float(scratch.dense[j]));
         scratch.dense[j] = 0.0;
     }
 }
@@ -142,10 +155,11 @@ void ProgressiveShooter::applyShot(const Shot& shot) {
     const ElementArrays& el = mesh_.elements;
     const double shooterArea = mesh_.patches.areaM2[shot.patch];
     const glm::dvec3 powerW = shot.deltaRadiosity * shooterArea;
-    for (std::size_t k = 0; k < shot.elements.size(); ++k) {
-        const std::uint32_t j = shot.elements[k];
+    const FormFactorRow& row = *shot.row;
+    for (std::size_t k = 0; k < row.elements.size(); ++k) {
+        const std::uint32_t j = row.elements[k];
         // Reciprocity: F_ji = F_ij·A_i/A_j, so the irradiance j gains is ΔB_i·F_ij·A_i/A_j.
-        const glm::dvec3 deltaIrradiance = shot.deltaRadiosity * (shot.formFactors[k] * shooterArea / el.areaM2[j]);
+        const glm::dvec3 deltaIrradiance = shot.deltaRadiosity * (double(row.formFactors[k]) * shooterArea / el.areaM2[j]);
         const glm::dvec3 reflected = glm::dvec3(el.reflectance[j]) * deltaIrradiance;
         solution_.irradiance[j] += deltaIrradiance;
         solution_.radiosity[j] += reflected;
@@ -154,14 +168,15 @@ void ProgressiveShooter::applyShot(const Shot& shot) {
         solution_.unshotRadiosity[p] += reflected * (el.areaM2[j] / mesh_.patches.areaM2[p]);
     }
     // Queue updates after the loop: a patch with many receiving elements is updated once per element otherwise.
-    for (std::size_t k = 0; k < shot.elements.size(); ++k) {
-        const std::uint32_t p = el.patch[shot.elements[k]];
+    for (std::size_t k = 0; k < row.elements.size(); ++k) {
+        const std::uint32_t p = el.patch[row.elements[k]];
         queue_.set(p, channelSum(solution_.unshotRadiosity[p]) * mesh_.patches.areaM2[p]);
     }
-    ledger_.escapedW += powerW * shot.skyFraction;
-    ledger_.backfaceW += powerW * shot.backfaceFraction;
+    ledger_.escapedW += powerW * row.skyFraction;
+    ledger_.backfaceW += powerW * row.backfaceFraction;
     ++ledger_.shots;
-    ledger_.hemicubes += shot.hemicubes;
+    ledger_.hemicubes += shot.hemicubesRendered;
+    ledger_.cachedShots += shot.hemicubesRendered == 0 ? 1 : 0;
 }
 
 glm::dvec3 ProgressiveShooter::unshotPowerPerChannelW() const {

@@ -11,6 +11,7 @@
 
 #include "baker/bake_settings.h"
 #include "baker/convergence.h"
+#include "baker/form_factor_cache.h"
 #include "baker/radiosity_solution.h"
 #include "baker/unshot_queue.h"
 #include "mesh/patches.h"
@@ -25,7 +26,9 @@ struct ShootingLedger {
     glm::dvec3 escapedW{0.0};        // shot into hemicube pixels that saw nothing (lost to the sky)
     glm::dvec3 backfaceW{0.0};       // shot onto the backs of single-sided surfaces (absorbed there)
     std::uint64_t shots = 0;
-    std::uint64_t hemicubes = 0;     // > shots when proximity asked for several sample points
+    std::uint64_t hemicubes = 0;     // rendered; > shots when proximity asked for several sample points
+    std::uint64_t cachedShots = 0;   // shots that reused their patch's cached form-factor row
+    std::size_t cacheBytes = 0;      // form-factor rows kept
 };
 
 class ProgressiveShooter {
@@ -34,8 +37,9 @@ public:
                        const SolverSettings& settings);
     ~ProgressiveShooter();
 
-    // Emission: B = π·L_e on every emitting element, and its patch's unshot radiosity.
-    void injectEmission();
+    // Emission: B = π·L_e on every emitting element, and (if `shoot`) its patch's unshot radiosity. Without
+    // `shoot` the emitters' direct light must arrive through injectIrradiance (EmissiveAreaLights).
+    void injectEmission(bool shoot = true);
     // Irradiance arriving from outside the surface set (punctual lights, sky), W·m⁻² per element.
     void injectIrradiance(const std::vector<glm::dvec3>& irradiance);
 
@@ -44,6 +48,7 @@ public:
     std::string run(ConvergenceHistory& history, const Progress& progress, double startSeconds);
 
     const ShootingLedger& ledger() const { return ledger_; }
+    std::size_t formFactorCacheBytes() const { return cache_->bytesUsed(); }
     double unshotPowerW() const { return queue_.totalPower(); }  // sum over channels
     glm::dvec3 unshotPowerPerChannelW() const;
     double exitancePowerW() const { return exitanceW_; }  // Σ B·A over elements, summed over channels
@@ -54,6 +59,7 @@ private:
     struct MergeScratch;
     void addUnshot(std::uint32_t patch, const glm::dvec3& radiosity);
     void renderShot(std::uint32_t patch, Shot& shot) const;
+    void renderRow(std::uint32_t patch, std::uint64_t seed, FormFactorRow& row) const;
     void applyShot(const Shot& shot);
 
     const PatchMesh& mesh_;
@@ -65,6 +71,7 @@ private:
     double maxReflectance_ = 0.0;
     double exitanceW_ = 0.0;  // kept up to date by every injection and shot
     std::unique_ptr<tbb::enumerable_thread_specific<MergeScratch>> scratch_;
+    std::unique_ptr<FormFactorCache> cache_;
 };
 
 }  // namespace hemibake

@@ -1,10 +1,12 @@
 #include "baker/radiosity_solver.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
 #include "baker/direct_light.h"
 #include "baker/embree_scene.h"
+#include "baker/emissive_area_lights.h"
 #include "baker/gatherer.h"
 #include "baker/progressive_shooter.h"
 #include "baker/sky_light.h"
@@ -27,7 +29,7 @@ private:
 // bound ρ_max/(1−ρ_max)·|B_k − B_{k−1}| (area-weighted L1; ρF contracts by ρ_max there thanks to reciprocity)
 // falls below `epsilon` (pass epsilon = 0 for exactly maxSweeps).
 void gatherSweeps(const PatchMesh& mesh, const BakeSettings& settings, HemicubePool& pool,
-                  const std::vector<glm::dvec3>& punctualIrradiance, RadiositySolution& solution, int maxSweeps,
+                  const std::vector<glm::dvec3>& punctualIrradiance, bool emittersByRays, RadiositySolution& solution, int maxSweeps,
                   double epsilon, double startSeconds, SolveReport& report, const SolveProgress& progress) {
     const ElementArrays& el = mesh.elements;
     Gatherer gatherer(pool, settings.solver.seed);
@@ -38,7 +40,7 @@ void gatherSweeps(const PatchMesh& mesh, const BakeSettings& settings, HemicubeP
     for (const glm::vec3& r : el.reflectance) maxRho = std::max({maxRho, double(r.x), double(r.y), double(r.z)});
     Stopwatch clock;
     for (int sweep = 0; sweep < maxSweeps; ++sweep) {
-        for (std::size_t e = 0; e < el.size(); ++e) radiance[e] = glm::vec3(solution.displayRadiosity(mesh, e) / M_PI);
+        for (std::size_t e = 0; e < el.size(); ++e) radiance[e] = solution.gatherRadiance(mesh, e, emittersByRays);
         gatherer.setElementRadiance(radiance);
         gatherer.gather(points, settings.lighting.skyRadiance, std::uint64_t(sweep) + 1, eOverPi);
         double change = 0.0, total = 0.0;
@@ -73,21 +75,37 @@ SolveReport solveRadiosity(const Scene& scene, const PatchMesh& mesh, const Bake
     const ElementArrays& el = mesh.elements;
     Stopwatch total;
 
-    // Direct light from punctual lights (kept apart: the gather cannot see them) and from the sky.
-    std::vector<glm::dvec3> punctual(el.size(), glm::dvec3(0.0)), injected(el.size(), glm::dvec3(0.0));
-    if (!scene.lights.empty()) {
-        DirectLightSettings ds;
-        ds.sunAngularDiameterRad = settings.lighting.sunAngularDiameterRad;
-        const DirectLight direct(scene, rays, ds);
-        punctual = elementsIrradianceOverPi(direct, mesh, settings.lighting.lightSamplesPerElement);
-        for (glm::dvec3& h : punctual) h *= M_PI;
+    // Direct light by rays from punctual lights and (EmitterLighting::Rays) emissive surfaces, kept apart (the
+    // gather cannot see punctual lights, and must not see ray-traced emitters twice), and from the sky.
+    // An element averages lightSamplesPerElement points, so each needs only its share of the emitter rays.
+    const int pointsPerElement = std::max(settings.lighting.lightSamplesPerElement, 1);
+    const std::unique_ptr<EmissiveAreaLights> areaLights = makeEmissiveAreaLights(
+        mesh, rays, settings.lighting, std::max(4, (settings.lighting.emitterSamples + pointsPerElement - 1) / pointsPerElement));
+    report.emittersByRays = areaLights != nullptr;
+    std::vector<glm::dvec3> punctual(el.size(), glm::dvec3(0.0)), fromEmitters(el.size(), glm::dvec3(0.0));
+    DirectLightSettings ds;
+    ds.sunAngularDiameterRad = settings.lighting.sunAngularDiameterRad;
+    auto directIrradiance = [&](const DirectLight& direct, std::vector<glm::dvec3>& out) {
+        out = elementsIrradianceOverPi(direct, mesh, settings.lighting.lightSamplesPerElement);
+        for (glm::dvec3& h : out) h *= M_PI;
+    };
+    if (!scene.lights.empty()) directIrradiance(DirectLight(scene, rays, ds), punctual);
+    if (areaLights) {
+        DirectLightSettings emittersOnly = ds;
+        emittersOnly.punctualLights = false;
+        directIrradiance(DirectLight(scene, rays, emittersOnly, areaLights.get()), fromEmitters);
+        for (std::size_t e = 0; e < el.size(); ++e) punctual[e] += fromEmitters[e];
     }
     const std::vector<glm::dvec3> sky = elementsSkyIrradianceOverPi(rays, mesh, settings.lighting.skyRadiance,
                                                                     settings.lighting.skySamplesPerElement,
                                                                     settings.solver.seed);
+    solution.rayTracedIrradiance = punctual;
+    std::vector<glm::dvec3> injected(el.size(), glm::dvec3(0.0));
+    glm::dvec3 emitterDirectW(0.0);
     for (std::size_t e = 0; e < el.size(); ++e) {
         injected[e] = punctual[e] + M_PI * sky[e];
-        report.directPowerW += injected[e] * el.areaM2[e];
+        emitterDirectW += fromEmitters[e] * el.areaM2[e];
+        report.directPowerW += (injected[e] - fromEmitters[e]) * el.areaM2[e];
         report.emitterPowerW += M_PI * glm::dvec3(el.emittedRadiance[e]) * el.areaM2[e];
     }
     report.directSeconds = total.seconds();
@@ -95,7 +113,7 @@ SolveReport solveRadiosity(const Scene& scene, const PatchMesh& mesh, const Bake
     const SolverKind kind = settings.solver.kind;
     if (kind == SolverKind::Shoot || kind == SolverKind::Hybrid) {
         ProgressiveShooter shooter(mesh, solution, pool, settings.solver);
-        shooter.injectEmission();
+        shooter.injectEmission(!areaLights);
         shooter.injectIrradiance(injected);
         const double t0 = total.seconds();
         report.stopReason = shooter.run(
@@ -104,7 +122,12 @@ SolveReport solveRadiosity(const Scene& scene, const PatchMesh& mesh, const Bake
         const ShootingLedger& ledger = shooter.ledger();
         report.shots = ledger.shots;
         report.hemicubes = ledger.hemicubes;
+        report.cachedShots = ledger.cachedShots;
+        report.formFactorCacheBytes = shooter.formFactorCacheBytes();
         report.escapedPowerW = ledger.escapedW;
+        // Ray-traced emitters did not shoot: what they emitted and no front face received went to the sky or
+        // onto back faces before its first bounce (not told apart here).
+        if (areaLights) report.escapedPowerW += report.emitterPowerW - emitterDirectW;
         report.backfacePowerW = ledger.backfaceW;
         report.unshotPowerW = shooter.unshotPowerPerChannelW();
         const double injectedSum = channelSum(ledger.injectedW);
@@ -133,10 +156,10 @@ SolveReport solveRadiosity(const Scene& scene, const PatchMesh& mesh, const Bake
 
     const double t1 = total.seconds();
     if (kind == SolverKind::Gather)
-        gatherSweeps(mesh, settings, pool, punctual, solution, settings.solver.maxGatherSweeps, settings.solver.epsilon, t1,
+        gatherSweeps(mesh, settings, pool, punctual, areaLights != nullptr, solution, settings.solver.maxGatherSweeps, settings.solver.epsilon, t1,
                      report, progress);
     else if (kind == SolverKind::Hybrid && settings.solver.gatherSweeps > 0)
-        gatherSweeps(mesh, settings, pool, punctual, solution, settings.solver.gatherSweeps, 0.0, t1, report, progress);
+        gatherSweeps(mesh, settings, pool, punctual, areaLights != nullptr, solution, settings.solver.gatherSweeps, 0.0, t1, report, progress);
     report.gatherSeconds = total.seconds() - t1;
     if (kind == SolverKind::Gather)
         report.stopReason = report.errorBound <= settings.solver.epsilon ? "converged" : "max-sweeps";

@@ -18,7 +18,9 @@ class HemicubePool;
 struct SolveReport {
     std::string stopReason;        // converged | max-shots | max-time | sweeps
     std::uint64_t shots = 0;
-    std::uint64_t hemicubes = 0;   // shooting hemicubes + gathering hemicubes
+    std::uint64_t hemicubes = 0;   // shooting hemicubes + gathering hemicubes (rendered)
+    std::uint64_t cachedShots = 0; // shots that reused a cached form-factor row (no hemicube rendered)
+    std::size_t formFactorCacheBytes = 0;
     int gatherSweeps = 0;
     double directSeconds = 0.0, shootSeconds = 0.0, gatherSeconds = 0.0;
     // Power ledger, W per channel.
@@ -31,6 +33,7 @@ struct SolveReport {
     double unshotFraction = 0.0;     // unshot / injected, summed over channels
     double errorBound = 0.0;         // see ConvergenceRecord::errorBound
     glm::dvec3 ambientRadiosity{0.0};
+    bool emittersByRays = false;     // emitters' direct light came from EmissiveAreaLights, not from shooting
     ConvergenceHistory history;
 };
 

@@ -41,11 +41,12 @@ struct BakeOptions {
     std::string scenePath;
     std::string outDir;
     std::string preset = "medium";
-    std::optional<double> patchSize, elementSize, emitterPatchSize, epsilon, maxTime, proximity;
+    std::optional<double> patchSize, elementSize, emitterPatchSize, epsilon, maxTime, proximity, formFactorCacheMiB;
     std::optional<int> hemicubeRes, gatherSweeps, adaptiveLevels;
     std::optional<double> adaptiveThreshold;
     std::optional<std::uint64_t> maxShots;
-    std::optional<std::string> solver;
+    std::optional<std::string> solver, emitters;
+    std::optional<int> emitterSamples;
     std::vector<float> sky;
     float sunDiameterDeg = 0.0f;
     bool noAmbient = false;
@@ -88,9 +89,12 @@ BakeSettings resolveSettings(const BakeOptions& o, double sceneDiagonalM) {
         s.solver.maxGatherSweeps = std::max(*o.gatherSweeps, 1);
     }
     if (o.proximity) s.solver.proximityFactor = *o.proximity;
+    if (o.formFactorCacheMiB) s.solver.formFactorCacheMiB = *o.formFactorCacheMiB;
     if (o.adaptiveLevels) s.adaptive.levels = *o.adaptiveLevels;
     if (o.adaptiveThreshold) s.adaptive.threshold = *o.adaptiveThreshold;
     if (o.solver) s.solver.kind = parseSolverKind(*o.solver);
+    if (o.emitters) s.lighting.emitters = parseEmitterLighting(*o.emitters);
+    if (o.emitterSamples) s.lighting.emitterSamples = *o.emitterSamples;
     s.solver.ambientCorrection = !o.noAmbient;
     s.solver.threads = o.threads;
     s.solver.seed = o.seed;
@@ -292,6 +296,19 @@ CommandRunner addBakeCommand(CLI::App& app) {
         ->check(CLI::Range(0, 10000));
     cmd->add_option("--proximity", o->proximity,
                     "A patch shoots from several sample points when a surface is nearer than this × its size")
+        ->check(CLI::NonNegativeNumber);
+    cmd->add_option("--emitters", o->emitters,
+                    "How emissive surfaces light the scene directly. rays: Lambert's exact formula times a shadow-ray "
+                    "visibility estimate at every element and texel (sharp, alias-free; the bounces still shoot "
+                    "through hemicubes); hemicube: emitters shoot their power like every other patch. Scenes with "
+                    "more than 4096 emitting elements fall back to hemicube")
+        ->check(CLI::IsMember({"rays", "hemicube"}));
+    cmd->add_option("--emitter-samples", o->emitterSamples,
+                    "Shadow rays per point towards emissive surfaces (--emitters rays); only penumbrae are noisy")
+        ->check(CLI::Range(1, 4096));
+    cmd->add_option("--ff-cache-mib", o->formFactorCacheMiB,
+                    "Memory for form-factor rows of patches that shoot again (default 1024; 0 = render every shot). "
+                    "Rows cost about 8 bytes per element a patch sees; past the budget patches render each time")
         ->check(CLI::NonNegativeNumber);
     cmd->add_option("--adaptive-levels", o->adaptiveLevels,
                     "Refine elements at light/shadow boundaries this many times (each halves their size), then solve again")

