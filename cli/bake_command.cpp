@@ -50,6 +50,7 @@ struct BakeOptions {
     std::vector<float> sky;
     float sunDiameterDeg = 0.0f;
     bool noAmbient = false;
+    bool noPreview = false;
     int threads = 0;
     std::uint64_t seed = 1;
     bool progress = false;
@@ -125,6 +126,13 @@ int runBake(const BakeOptions& o) {
 
     const Scene scene = loadGltf(o.scenePath);
     report.timings.push_back({"load", clock.lap()});
+    // Warnings go to stderr as they happen (clamped reflectance, skipped primitives, …) and into bake.json.
+    std::vector<std::string> warnings;
+    auto warn = [&](const std::string& w) {
+        std::cerr << "hemibake: warning: " << o.scenePath << ": " << w << "\n";
+        warnings.push_back(w);
+    };
+    for (const std::string& w : scene.report.warnings) warn(w);
     report.settings = resolveSettings(o, scene.bounds().diagonal());
     const BakeSettings& settings = report.settings;
     const ProbeJob probeJob = prepareProbeJob(o.probes, scene);  // a bad probes file fails before the solve
@@ -152,6 +160,11 @@ int runBake(const BakeOptions& o) {
                                   });
     RadiosityBake& bake = *solved;
     report.solve = bake.report;
+    std::size_t emitting = 0;
+    for (const glm::vec3& l : bake.mesh.elements.emittedRadiance) emitting += (l.x > 0.0f || l.y > 0.0f || l.z > 0.0f);
+    if (settings.lighting.emitters == EmitterLighting::Rays && emitting > 0 && !bake.report.emittersByRays)
+        warn(std::to_string(emitting) + " emitting elements (more than " + std::to_string(settings.lighting.maxRayTracedEmitters) +
+             "): emitters shoot through hemicubes instead of rays (their shadows follow the element grid)");
     report.triangles = scene.triangleCount();
     report.patches = bake.mesh.patches.size();
     report.elements = bake.mesh.elements.size();
@@ -177,6 +190,7 @@ int runBake(const BakeOptions& o) {
     progress.update("unwrapping", true);
     const UvAtlas atlas = unwrapScene(scene, unwrapSettingsFor(settings.lightmap, settings.lightmap.texelsPerUnit));
     const std::vector<AtlasTexels> texels = computeTexels(scene, atlas);
+    for (const std::string& w : atlas.warnings) warn(w);
     report.timings.push_back({"unwrap", clock.lap()});
     LightmapStats lightmapStats;
     std::vector<LightmapImage> images = bakeLightmaps(
@@ -216,7 +230,7 @@ int runBake(const BakeOptions& o) {
     const std::string stem = fs::path(o.scenePath).stem().string();
     report.primitives = writeLightmappedGlb(o.scenePath, scene, atlas, images, out / (stem + ".glb"), gltfOptions);
     report.timings.push_back({"write", clock.lap()});
-    if (!scene.cameras.empty()) {
+    if (!scene.cameras.empty() && !o.noPreview) {
         // A picture of the result from the scene's own camera: what the user would look at first.
         progress.update("preview render", true);
         const Camera& camera = scene.cameras.front();
@@ -228,6 +242,7 @@ int runBake(const BakeOptions& o) {
                                    {"width", preview.width}, {"height", preview.height}};
         report.timings.push_back({"preview", clock.lap()});
     }
+    report.extra["warnings"] = warnings;
     report.extra["sceneAbsolute"] = fs::absolute(o.scenePath).lexically_normal().string();
     report.extra["lightmap"] = {{"texelsPerUnit", settings.lightmap.texelsPerUnit},
                                 {"maxAtlasSize", settings.lightmap.maxAtlasSize},
@@ -340,6 +355,8 @@ CommandRunner addBakeCommand(CLI::App& app) {
         ->check(CLI::Range(0.0, 1.0));
     cmd->add_option("--uv", o->uvMode, "unwrap: compute lightmap UVs; keep: use TEXCOORD_1 from the scene where present")
         ->capture_default_str()->check(CLI::IsMember({"unwrap", "keep"}));
+    cmd->add_flag("--no-preview", o->noPreview,
+                  "Skip the preview render from the scene's camera (preview.exr/.png): batch runs and benchmarks");
     cmd->add_option("--gltf", o->gltfMode, "lightmap: PBR materials + MOZ_lightmap; emissive: viewable anywhere (baked "
                                            "into emissive)")->capture_default_str()->check(CLI::IsMember({"lightmap", "emissive"}));
     addProbeOptions(*cmd, o->probes);

@@ -176,3 +176,26 @@ TEST(EmissiveAreaLights, OpenScenePowerBalances) {
         EXPECT_NEAR(out[c], in[c], 1e-3 * in[c]) << "channel " << c;
     }
 }
+
+// Σ F = 1 inside a closed box at every point, also a hair from its edges and corners, where the nearest emitter
+// triangles meet the receiver at right angles and shadow rays skim along the walls: nothing may be lost there.
+TEST(EmissiveAreaLights, ClosedBoxClosesAtEdgesAndCorners) {
+    SceneBuilder b("emitting box");
+    const int wall = b.addMaterial(glm::vec3(0.5f), glm::vec3(1.0f));
+    auto c = [](int i) { return glm::dvec3(i & 1, (i >> 1) & 1, (i >> 2) & 1); };
+    b.addQuad(c(2), c(6), c(4), c(0), wall, "-x");
+    b.addQuad(c(1), c(5), c(7), c(3), wall, "+x");
+    b.addQuad(c(0), c(4), c(5), c(1), wall, "-y");
+    b.addQuad(c(2), c(3), c(7), c(6), wall, "+y");
+    b.addQuad(c(0), c(1), c(3), c(2), wall, "-z");
+    b.addQuad(c(4), c(6), c(7), c(5), wall, "+z");
+    const Scene scene = b.build();
+    const EmbreeScene rays(scene);
+    const EmissiveAreaLights lights(meshOf(scene), rays, 64);
+    for (const double d : {0.3, 0.05, 0.01, 1e-3}) {
+        for (const glm::dvec3& p : {glm::dvec3(0.5, 0, 0.5), glm::dvec3(d, 0, 0.5), glm::dvec3(d, 0, d), glm::dvec3(1 - d, 0, 1 - d)}) {
+            const glm::dvec3 got = lights.irradianceOverPiAt(p, {0, 1, 0}, 3);
+            EXPECT_NEAR(got.x, 1.0, 1e-9) << "floor point " << p.x << ", " << p.z;
+        }
+    }
+}

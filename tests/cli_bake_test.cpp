@@ -14,7 +14,8 @@ TEST(CliBake, CornellWritesReportWithConvergenceHistory) {
     TempDir dir;
     const std::string out = dir.file("out");
     const auto r = runHemibake({"bake", hemibake::test::sharedScene("cornell_box.gltf"), "-o", out, "--preset", "draft",
-                                "--hemicube-res", "32", "--epsilon", "0.02", "--solver", "shoot", "--progress"});
+                                "--hemicube-res", "32", "--epsilon", "0.02", "--solver", "shoot", "--progress",
+                                "--emitters", "hemicube"});  // emitters shoot: the history starts at all power unshot
     ASSERT_EQ(r.exitCode, 0) << r.err;
     EXPECT_NE(r.err.find("solved: converged"), std::string::npos) << r.err;  // progress was reported
     std::ifstream in(out + "/bake.json");
@@ -67,4 +68,28 @@ TEST(CliBake, HelpExplainsEveryKnob) {
     for (const char* knob : {"--preset", "--patch-size", "--element-size", "--hemicube-res", "--epsilon", "--solver",
                              "--gather-sweeps", "--sky", "--max-time", "--threads", "draft", "ultra"})
         EXPECT_NE(r.out.find(knob), std::string::npos) << knob;
+}
+
+// Input the loader had to correct (CONVENTIONS: reflectance clamped to [0, 0.999] "with a warning") is reported by
+// the bake itself, on stderr and in bake.json, not only by `info`.
+TEST(CliBake, LoaderWarningsReachTheUser) {
+    TempDir dir;
+    hemibake::test::GltfFixture g;
+    const int hot = g.addMaterial({{"name", "too_bright"},
+                                   {"pbrMetallicRoughness", {{"baseColorFactor", {1.5, 0.5, 0.5, 1.0}}, {"metallicFactor", 0.0}}}});
+    const int light = g.addMaterial({{"pbrMetallicRoughness", {{"baseColorFactor", {0.0, 0.0, 0.0, 1.0}}, {"metallicFactor", 0.0}}},
+                                     {"emissiveFactor", {1.0, 1.0, 1.0}}});
+    const int floorPos = g.addPositions({-1, 0, -1, -1, 0, 1, 1, 0, 1, 1, 0, -1});
+    g.addNode({{"name", "floor"}, {"mesh", g.addMesh(floorPos, g.addIndicesU16({0, 1, 2, 0, 2, 3}), hot)}});
+    const int lightPos = g.addPositions({-0.5f, 1, -0.5f, 0.5f, 1, -0.5f, 0.5f, 1, 0.5f, -0.5f, 1, 0.5f});
+    g.addNode({{"name", "light"}, {"mesh", g.addMesh(lightPos, g.addIndicesU16({0, 1, 2, 0, 2, 3}), light)}});
+    const std::string scene = g.writeGltf(dir, "bright.gltf");
+    const std::string out = dir.file("out");
+    const auto r = runHemibake({"bake", scene, "-o", out, "--preset", "draft"});
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.err.find("warning: " + scene + ": material 'too_bright'"), std::string::npos) << r.err;
+    std::ifstream in(out + "/bake.json");
+    const auto j = nlohmann::json::parse(in);
+    ASSERT_EQ(j["warnings"].size(), 1u) << j["warnings"].dump();
+    EXPECT_NE(j["warnings"][0].get<std::string>().find("clamped"), std::string::npos);
 }
