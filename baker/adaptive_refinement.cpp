@@ -4,6 +4,7 @@
 #include <unordered_map>
 
 #include "baker/embree_scene.h"
+#include "baker/exposed_area.h"
 #include "raster/hemicube_pool.h"
 
 namespace hemibake {
@@ -60,7 +61,10 @@ std::unique_ptr<RadiosityBake> solveWithRefinement(const Scene& scene, const Bak
                                                    const EmbreeScene& rays, const SolveProgress& progress) {
     auto owned = std::make_unique<RadiosityBake>();
     RadiosityBake& bake = *owned;
+    // Elements partly under other geometry keep only their exposed area (baker/exposed_area.h).
+    const ExposedAreaSettings exposed;
     bake.mesh = subdivide(scene, settings.subdivision);
+    bake.exposedArea = applyExposedAreas(scene, rays, bake.mesh, exposed);
     bake.elementsBeforeRefinement = bake.mesh.elements.size();
     bake.pool = std::make_unique<HemicubePool>(bake.mesh, settings.solver.hemicubeResolution);
     bake.report = solveRadiosity(scene, bake.mesh, settings, *bake.pool, rays, bake.solution, progress);
@@ -74,6 +78,7 @@ std::unique_ptr<RadiosityBake> solveWithRefinement(const Scene& scene, const Bak
         bake.refinementRegions = request.regions.size();
         bake.pool.reset();
         bake.mesh = subdivide(scene, settings.subdivision, &request);
+        bake.exposedArea = applyExposedAreas(scene, rays, bake.mesh, exposed);
         bake.pool = std::make_unique<HemicubePool>(bake.mesh, settings.solver.hemicubeResolution);
         bake.report = solveRadiosity(scene, bake.mesh, settings, *bake.pool, rays, bake.solution, progress);
     }

@@ -3,6 +3,7 @@
 #include <memory>
 
 #include "baker/bake_settings.h"
+#include "baker/exposed_area.h"
 #include "baker/radiosity_solver.h"
 #include "mesh/subdivision.h"
 
@@ -23,6 +24,7 @@ struct RadiosityBake {
     std::unique_ptr<HemicubePool> pool;  // bound to `mesh`: later stages (final gather) reuse it
     std::size_t elementsBeforeRefinement = 0;
     std::size_t refinementRegions = 0;
+    ExposedAreaReport exposedArea;  // of the final mesh
     RadiosityBake();
     ~RadiosityBake();
     // Pinned: `pool` points at `mesh`, so moving the bake would leave it reading a moved-from mesh.

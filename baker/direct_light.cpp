@@ -1,6 +1,7 @@
 #include "baker/direct_light.h"
 #include "baker/emissive_area_lights.h"
 #include "mesh/frame_math.h"
+#include "mesh/triangle_sampling.h"
 
 #include <algorithm>
 #include <cmath>
@@ -128,12 +129,7 @@ glm::dvec3 DirectLight::elementIrradianceOverPi(const PatchMesh& patches, std::s
         const std::uint32_t seed = hash(std::uint32_t(element), index++);
         sum += irradianceOverPiAt(wa * a + wb * b + (1.0 - wa - wb) * c, n, seed);
     };
-    // Centroids of the k² congruent sub-triangles: k(k+1)/2 upright, k(k-1)/2 inverted.
-    for (int i = 0; i < k; ++i)
-        for (int j = 0; i + j < k; ++j) {
-            sample((i + 1.0 / 3.0) / k, (j + 1.0 / 3.0) / k);
-            if (i + j + 2 <= k) sample((i + 2.0 / 3.0) / k, (j + 2.0 / 3.0) / k);
-        }
+    forEachSubTriangleCentroid(k, sample);
     return sum / double(k * k);
 }
 

@@ -10,6 +10,7 @@
 #include "baker/gatherer.h"
 #include "baker/progressive_shooter.h"
 #include "baker/sky_light.h"
+#include "mesh/triangle_sampling.h"
 #include "raster/hemicube_pool.h"
 
 namespace hemibake {
@@ -96,9 +97,20 @@ SolveReport solveRadiosity(const Scene& scene, const PatchMesh& mesh, const Bake
         directIrradiance(DirectLight(scene, rays, emittersOnly, areaLights.get()), fromEmitters);
         for (std::size_t e = 0; e < el.size(); ++e) punctual[e] += fromEmitters[e];
     }
-    const std::vector<glm::dvec3> sky = elementsSkyIrradianceOverPi(rays, mesh, settings.lighting.skyRadiance,
-                                                                    settings.lighting.skySamplesPerElement,
-                                                                    settings.solver.seed);
+    std::vector<glm::dvec3> sky = elementsSkyIrradianceOverPi(rays, mesh, settings.lighting.skyRadiance,
+                                                              settings.lighting.skySamplesPerElement,
+                                                              settings.solver.seed);
+    // Ray-traced averages run over the whole triangle, and its covered points (under a block) see nothing; an
+    // element trimmed to its exposed part (baker/exposed_area.h) wants the mean over that part. Elements almost
+    // wholly covered are left alone: nobody sees them, and 1/fraction would amplify any stray ray.
+    for (std::size_t e = 0; e < el.size(); ++e) {
+        const double whole = triangleArea(el, e);
+        const double fraction = whole > 0.0 ? el.areaM2[e] / whole : 1.0;
+        if (!(fraction < 1.0) || fraction < 0.01) continue;
+        punctual[e] /= fraction;
+        fromEmitters[e] /= fraction;
+        sky[e] /= fraction;
+    }
     solution.rayTracedIrradiance = punctual;
     std::vector<glm::dvec3> injected(el.size(), glm::dvec3(0.0));
     glm::dvec3 emitterDirectW(0.0);

@@ -168,6 +168,9 @@ int runBake(const BakeOptions& o) {
     report.triangles = scene.triangleCount();
     report.patches = bake.mesh.patches.size();
     report.elements = bake.mesh.elements.size();
+    report.extra["exposedArea"] = {{"elementsTrimmed", bake.exposedArea.elementsTrimmed},
+                                   {"elementsCovered", bake.exposedArea.elementsCovered},
+                                   {"areaRemovedM2", bake.exposedArea.areaRemovedM2}};
     report.extra["refinement"] = {{"levels", settings.adaptive.levels},
                                   {"threshold", settings.adaptive.threshold},
                                   {"elementsBefore", bake.elementsBeforeRefinement},

@@ -3,10 +3,10 @@
 // reported for every surface. Texel density is lowered (32 texels/m) to keep the suite quick; every other
 // setting is the preset's.
 //
-// Not yet asserted: the lightmaps issue asks lightmap and elements to agree within 1 % per surface. Measured here:
-// ceiling/blocks/light ≤ 0.9 %, but walls 1.0–2.9 % (the lightmap darker: adaptive texel placement interpolates
-// with a bias; with --lattice 1 every wall is within 0.9 %) and the floor 1.0–2.0 % (the lightmap brighter:
-// elements straddling the blocks' footprints average light and shadow, texels do not). Both are open work.
+// The lightmaps issue's own check (lightmap and elements within 1 % per surface) runs on the default bake, at the
+// default density, below: the floor used to be 1.4 % off because its elements straddling the blocks' footprints
+// averaged the covered part in (baker/exposed_area.h); measured now ≤ 0.6 % everywhere but the light (0.4–0.9 %
+// over seeds 1–3; its elements share their plane with the ceiling and run a little high).
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -59,4 +59,28 @@ TEST(CliCornellMedium, LightmapsAgreeWithTheSolverAndThePathTracer) {
         const double a = channelSum(p["errors"]["meanA"]), b = channelSum(p["errors"]["meanB"]);
         EXPECT_NEAR(a / b, 1.0, 0.05) << p["node"];
     }
+}
+
+// Issue 5, as written: `hemibake bake cornell_box.gltf -o out/` with every default, and per surface the mean of
+// the lightmap and the mean of the solver's elements over the same texels agree within 1 %; the atlas is at least
+// 60 % used; no texel is NaN or infinite (the bake compared with itself would then not score exactly 0).
+TEST(CliCornellMedium, DefaultBakeAgreesWithItsElementsWithinOnePercent) {
+    TempDir dir;
+    const std::string out = dir.file("bake");
+    const auto bake = runHemibake({"bake", hemibake::test::sharedScene("cornell_box.gltf"), "-o", out});
+    ASSERT_EQ(bake.exitCode, 0) << bake.err;
+    const nlohmann::json report = nlohmann::json::parse(std::ifstream(out + "/bake.json"));
+    EXPECT_EQ(report["settings"]["preset"], "medium");
+    const nlohmann::json& agreement = report["lightmap"]["surfaceAgreement"];
+    ASSERT_EQ(agreement["surfaces"].size(), 8u);
+    for (const auto& s : agreement["surfaces"])
+        EXPECT_LT(s["relativeDifference"].get<double>(), 0.01)
+            << s["node"] << ": elements " << s["elementMeanIrradianceOverPi"] << ", lightmap " << s["lightmapMeanIrradianceOverPi"];
+    for (const auto& a : report["lightmap"]["atlases"]) EXPECT_GE(a["utilization"].get<double>(), 0.6);
+    EXPECT_LT(report["lightmap"]["seams"]["maxRelativeAfter"].get<double>(), 0.02);
+    const auto self = runHemibake({"compare", out, out, "--json"});
+    ASSERT_EQ(self.exitCode, 0) << self.err;
+    const nlohmann::json g = nlohmann::json::parse(self.out)["global"];
+    EXPECT_EQ(g["meanRelativeError"].get<double>(), 0.0);
+    EXPECT_EQ(g["maxRelativeError"].get<double>(), 0.0);
 }
