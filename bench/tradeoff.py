@@ -161,6 +161,9 @@ def write_markdown(results, path, png_name, quick):
             ratio = f", path tracer / bake = {t_pt / best['seconds']:.2f}×" if (t_pt and best) else ""
             lines.append(f"- {100 * target:.0f} % mean relative error: path tracer {pt_text}, fastest bake {bake_text}{ratio}.")
         lines.append("")
+    notes = os.path.join(ROOT, "bench", "tradeoff_notes.md")  # hand-written reading of the numbers
+    if os.path.exists(notes):
+        lines += [open(notes).read().rstrip()]
     with open(path, "w") as f:
         f.write("\n".join(lines) + "\n")
 
