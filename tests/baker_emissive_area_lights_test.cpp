@@ -12,6 +12,7 @@
 #include "support/solver_fixture.h"
 
 using namespace hemibake;
+using hemibake::test::furnace;
 using hemibake::test::meanIrradianceOverPi;
 using hemibake::test::solveScene;
 
@@ -124,23 +125,14 @@ TEST(EmissiveAreaLights, ShadowsComeFromRays) {
 // exactly L_e and the shooter adds the bounces, E/π = L_e/(1 − ρ).
 TEST(EmissiveAreaLights, FurnaceSolvedWithRayTracedEmitters) {
     for (const float rho : {0.5f, 0.9f}) {
-        SceneBuilder b("furnace");
         const float le = 2.0f;
-        const int wall = b.addMaterial(glm::vec3(rho), glm::vec3(le));
-        auto c = [](int i) { return glm::dvec3(i & 1, (i >> 1) & 1, (i >> 2) & 1); };
-        b.addQuad(c(2), c(6), c(4), c(0), wall, "-x");
-        b.addQuad(c(1), c(5), c(7), c(3), wall, "+x");
-        b.addQuad(c(0), c(4), c(5), c(1), wall, "-y");
-        b.addQuad(c(2), c(3), c(7), c(6), wall, "+y");
-        b.addQuad(c(0), c(1), c(3), c(2), wall, "-z");
-        b.addQuad(c(4), c(6), c(7), c(5), wall, "+z");
         BakeSettings s;
         s.subdivision = {1.0, 0.5, 1.0};
         s.solver.kind = SolverKind::Shoot;
         s.solver.hemicubeResolution = 32;
         s.solver.ambientCorrection = false;
         s.lighting.emitters = EmitterLighting::Rays;
-        const auto solved = solveScene(b.build(), s);
+        const auto solved = solveScene(furnace(rho, le, false), s);
         ASSERT_TRUE(solved->report.emittersByRays);
         const glm::dvec3 mean = meanIrradianceOverPi(*solved);
         const double expected = le / (1.0 - double(rho));
@@ -180,16 +172,7 @@ TEST(EmissiveAreaLights, OpenScenePowerBalances) {
 // Σ F = 1 inside a closed box at every point, also a hair from its edges and corners, where the nearest emitter
 // triangles meet the receiver at right angles and shadow rays skim along the walls: nothing may be lost there.
 TEST(EmissiveAreaLights, ClosedBoxClosesAtEdgesAndCorners) {
-    SceneBuilder b("emitting box");
-    const int wall = b.addMaterial(glm::vec3(0.5f), glm::vec3(1.0f));
-    auto c = [](int i) { return glm::dvec3(i & 1, (i >> 1) & 1, (i >> 2) & 1); };
-    b.addQuad(c(2), c(6), c(4), c(0), wall, "-x");
-    b.addQuad(c(1), c(5), c(7), c(3), wall, "+x");
-    b.addQuad(c(0), c(4), c(5), c(1), wall, "-y");
-    b.addQuad(c(2), c(3), c(7), c(6), wall, "+y");
-    b.addQuad(c(0), c(1), c(3), c(2), wall, "-z");
-    b.addQuad(c(4), c(6), c(7), c(5), wall, "+z");
-    const Scene scene = b.build();
+    const Scene scene = furnace(0.5f, 1.0f, false);
     const EmbreeScene rays(scene);
     const EmissiveAreaLights lights(meshOf(scene), rays, 64);
     for (const double d : {0.3, 0.05, 0.01, 1e-3}) {

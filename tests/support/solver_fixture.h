@@ -4,6 +4,7 @@
 
 #include "baker/embree_scene.h"
 #include "baker/radiosity_solver.h"
+#include "mesh/scene_builder.h"
 #include "mesh/subdivision.h"
 #include "raster/hemicube_pool.h"
 
@@ -15,6 +16,22 @@ struct SolvedScene {
     RadiositySolution solution;
     SolveReport report;
 };
+
+// A closed unit cube seen from inside; every face emits L_e (or only the top one) with reflectance rho.
+inline Scene furnace(float rho, float emitted, bool onlyTopEmits) {
+    SceneBuilder b("furnace");
+    const int wall = b.addMaterial(glm::vec3(rho), onlyTopEmits ? glm::vec3(0.0f) : glm::vec3(emitted));
+    const int lamp = b.addMaterial(glm::vec3(rho), glm::vec3(emitted));
+    auto c = [](int i) { return glm::dvec3(i & 1, (i >> 1) & 1, (i >> 2) & 1); };
+    // Inward-facing faces; +y (top) separately so it can emit alone.
+    b.addQuad(c(2), c(6), c(4), c(0), wall, "-x");
+    b.addQuad(c(1), c(5), c(7), c(3), wall, "+x");
+    b.addQuad(c(0), c(4), c(5), c(1), wall, "-y");
+    b.addQuad(c(2), c(3), c(7), c(6), lamp, "+y");
+    b.addQuad(c(0), c(1), c(3), c(2), wall, "-z");
+    b.addQuad(c(4), c(6), c(7), c(5), wall, "+z");
+    return b.build();
+}
 
 inline std::unique_ptr<SolvedScene> solveScene(Scene scene, const BakeSettings& settings) {
     auto s = std::make_unique<SolvedScene>();
