@@ -30,7 +30,7 @@ private:
 // bound ρ_max/(1−ρ_max)·|B_k − B_{k−1}| (area-weighted L1; ρF contracts by ρ_max there thanks to reciprocity)
 // falls below `epsilon` (pass epsilon = 0 for exactly maxSweeps).
 void gatherSweeps(const PatchMesh& mesh, const BakeSettings& settings, HemicubePool& pool,
-                  const std::vector<glm::dvec3>& punctualIrradiance, bool emittersByRays, RadiositySolution& solution, int maxSweeps,
+                  const std::vector<glm::dvec3>& rayTracedIrradiance, bool emittersByRays, RadiositySolution& solution, int maxSweeps,
                   double epsilon, double startSeconds, SolveReport& report, const SolveProgress& progress) {
     const ElementArrays& el = mesh.elements;
     Gatherer gatherer(pool, settings.solver.seed);
@@ -46,7 +46,7 @@ void gatherSweeps(const PatchMesh& mesh, const BakeSettings& settings, HemicubeP
         gatherer.gather(points, settings.lighting.skyRadiance, std::uint64_t(sweep) + 1, eOverPi);
         double change = 0.0, total = 0.0;
         for (std::size_t e = 0; e < el.size(); ++e) {
-            const glm::dvec3 irradiance = M_PI * eOverPi[e] + punctualIrradiance[e];
+            const glm::dvec3 irradiance = M_PI * eOverPi[e] + rayTracedIrradiance[e];
             const glm::dvec3 b = M_PI * glm::dvec3(el.emittedRadiance[e]) + glm::dvec3(el.reflectance[e]) * irradiance;
             change += channelSum(glm::abs(b - solution.displayRadiosity(mesh, e))) * el.areaM2[e];
             total += channelSum(b) * el.areaM2[e];
@@ -83,19 +83,19 @@ SolveReport solveRadiosity(const Scene& scene, const PatchMesh& mesh, const Bake
     const std::unique_ptr<EmissiveAreaLights> areaLights = makeEmissiveAreaLights(
         mesh, rays, settings.lighting, std::max(4, (settings.lighting.emitterSamples + pointsPerElement - 1) / pointsPerElement));
     report.emittersByRays = areaLights != nullptr;
-    std::vector<glm::dvec3> punctual(el.size(), glm::dvec3(0.0)), fromEmitters(el.size(), glm::dvec3(0.0));
+    std::vector<glm::dvec3> rayTraced(el.size(), glm::dvec3(0.0)), fromEmitters(el.size(), glm::dvec3(0.0));
     DirectLightSettings ds;
     ds.sunAngularDiameterRad = settings.lighting.sunAngularDiameterRad;
     auto directIrradiance = [&](const DirectLight& direct, std::vector<glm::dvec3>& out) {
         out = elementsIrradianceOverPi(direct, mesh, settings.lighting.lightSamplesPerElement);
         for (glm::dvec3& h : out) h *= M_PI;
     };
-    if (!scene.lights.empty()) directIrradiance(DirectLight(scene, rays, ds), punctual);
+    if (!scene.lights.empty()) directIrradiance(DirectLight(scene, rays, ds), rayTraced);
     if (areaLights) {
         DirectLightSettings emittersOnly = ds;
         emittersOnly.punctualLights = false;
         directIrradiance(DirectLight(scene, rays, emittersOnly, areaLights.get()), fromEmitters);
-        for (std::size_t e = 0; e < el.size(); ++e) punctual[e] += fromEmitters[e];
+        for (std::size_t e = 0; e < el.size(); ++e) rayTraced[e] += fromEmitters[e];
     }
     std::vector<glm::dvec3> sky = elementsSkyIrradianceOverPi(rays, mesh, settings.lighting.skyRadiance,
                                                               settings.lighting.skySamplesPerElement,
@@ -107,15 +107,15 @@ SolveReport solveRadiosity(const Scene& scene, const PatchMesh& mesh, const Bake
         const double whole = triangleArea(el, e);
         const double fraction = whole > 0.0 ? el.areaM2[e] / whole : 1.0;
         if (!(fraction < 1.0) || fraction < 0.01) continue;
-        punctual[e] /= fraction;
+        rayTraced[e] /= fraction;
         fromEmitters[e] /= fraction;
         sky[e] /= fraction;
     }
-    solution.rayTracedIrradiance = punctual;
+    solution.rayTracedIrradiance = rayTraced;
     std::vector<glm::dvec3> injected(el.size(), glm::dvec3(0.0));
     glm::dvec3 emitterDirectW(0.0);
     for (std::size_t e = 0; e < el.size(); ++e) {
-        injected[e] = punctual[e] + M_PI * sky[e];
+        injected[e] = rayTraced[e] + M_PI * sky[e];
         emitterDirectW += fromEmitters[e] * el.areaM2[e];
         report.directPowerW += (injected[e] - fromEmitters[e]) * el.areaM2[e];
         report.emitterPowerW += M_PI * glm::dvec3(el.emittedRadiance[e]) * el.areaM2[e];
@@ -160,18 +160,18 @@ SolveReport solveRadiosity(const Scene& scene, const PatchMesh& mesh, const Bake
         }
     } else {
         for (std::size_t e = 0; e < el.size(); ++e) {
-            solution.irradiance[e] = punctual[e];
-            solution.radiosity[e] = M_PI * glm::dvec3(el.emittedRadiance[e]) + glm::dvec3(el.reflectance[e]) * punctual[e];
+            solution.irradiance[e] = rayTraced[e];
+            solution.radiosity[e] = M_PI * glm::dvec3(el.emittedRadiance[e]) + glm::dvec3(el.reflectance[e]) * rayTraced[e];
         }
     }
     report.ambientRadiosity = solution.ambientRadiosity;
 
     const double t1 = total.seconds();
     if (kind == SolverKind::Gather)
-        gatherSweeps(mesh, settings, pool, punctual, areaLights != nullptr, solution, settings.solver.maxGatherSweeps, settings.solver.epsilon, t1,
+        gatherSweeps(mesh, settings, pool, rayTraced, areaLights != nullptr, solution, settings.solver.maxGatherSweeps, settings.solver.epsilon, t1,
                      report, progress);
     else if (kind == SolverKind::Hybrid && settings.solver.gatherSweeps > 0)
-        gatherSweeps(mesh, settings, pool, punctual, areaLights != nullptr, solution, settings.solver.gatherSweeps, 0.0, t1, report, progress);
+        gatherSweeps(mesh, settings, pool, rayTraced, areaLights != nullptr, solution, settings.solver.gatherSweeps, 0.0, t1, report, progress);
     report.gatherSeconds = total.seconds() - t1;
     if (kind == SolverKind::Gather)
         report.stopReason = report.errorBound <= settings.solver.epsilon ? "converged" : "max-sweeps";
