@@ -13,6 +13,7 @@
 
 using namespace hemibake;
 using hemibake::test::furnace;
+using hemibake::test::openSceneWithLamp;
 using hemibake::test::meanIrradianceOverPi;
 using hemibake::test::solveScene;
 
@@ -144,12 +145,7 @@ TEST(EmissiveAreaLights, FurnaceSolvedWithRayTracedEmitters) {
 
 // The power ledger still balances when emitters do not shoot: what no front face received is booked as escaped.
 TEST(EmissiveAreaLights, OpenScenePowerBalances) {
-    SceneBuilder b("open");
-    const int grey = b.addMaterial(glm::vec3(0.6f, 0.4f, 0.2f));
-    const int lamp = b.addMaterial(glm::vec3(0.3f), glm::vec3(5.0f, 4.0f, 3.0f));
-    b.addQuad({-1, 0, -1}, {-1, 0, 1}, {1, 0, 1}, {1, 0, -1}, grey, "floor");
-    b.addBox({-0.3, 0.0, -0.3}, {0.2, 0.6, 0.1}, grey, false, "block");
-    b.addQuad({-0.2, 1.0, -0.2}, {0.2, 1.0, -0.2}, {0.2, 1.0, 0.2}, {-0.2, 1.0, 0.2}, lamp, "lamp");
+    SceneBuilder b = openSceneWithLamp();
     BakeSettings s;
     s.subdivision = {0.25, 0.125, 0.25};
     s.solver.kind = SolverKind::Shoot;

@@ -9,6 +9,7 @@
 using namespace hemibake;
 using hemibake::test::meanIrradianceOverPi;
 using hemibake::test::furnace;
+using hemibake::test::openSceneWithLamp;
 using hemibake::test::solveScene;
 
 namespace {
@@ -79,12 +80,7 @@ TEST(OneEmittingFace, AreaMeanRadiosity) {
 
 // Open scene: every watt emitted is absorbed, escapes, or is still unshot.
 TEST(EnergyBalance, OpenSceneConservesPower) {
-    SceneBuilder b("open");
-    const int grey = b.addMaterial(glm::vec3(0.6f, 0.4f, 0.2f));
-    const int lamp = b.addMaterial(glm::vec3(0.3f), glm::vec3(5.0f, 4.0f, 3.0f));
-    b.addQuad({-1, 0, -1}, {-1, 0, 1}, {1, 0, 1}, {1, 0, -1}, grey, "floor");
-    b.addBox({-0.3, 0.0, -0.3}, {0.2, 0.6, 0.1}, grey, false, "block");
-    b.addQuad({-0.2, 1.0, -0.2}, {0.2, 1.0, -0.2}, {0.2, 1.0, 0.2}, {-0.2, 1.0, 0.2}, lamp, "lamp");
+    SceneBuilder b = openSceneWithLamp();
     PunctualLight point;
     point.type = LightType::Point;
     point.position = {0.5, 0.8, 0.5};

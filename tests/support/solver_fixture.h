@@ -33,6 +33,18 @@ inline Scene furnace(float rho, float emitted, bool onlyTopEmits) {
     return b.build();
 }
 
+// An open scene for power-ledger checks: a floor, a block standing on it and a square lamp above, open to the sky
+// on every side (callers may add lights before building).
+inline SceneBuilder openSceneWithLamp() {
+    SceneBuilder b("open");
+    const int grey = b.addMaterial(glm::vec3(0.6f, 0.4f, 0.2f));
+    const int lamp = b.addMaterial(glm::vec3(0.3f), glm::vec3(5.0f, 4.0f, 3.0f));
+    b.addQuad({-1, 0, -1}, {-1, 0, 1}, {1, 0, 1}, {1, 0, -1}, grey, "floor");
+    b.addBox({-0.3, 0.0, -0.3}, {0.2, 0.6, 0.1}, grey, false, "block");
+    b.addQuad({-0.2, 1.0, -0.2}, {0.2, 1.0, -0.2}, {0.2, 1.0, 0.2}, {-0.2, 1.0, 0.2}, lamp, "lamp");
+    return b;
+}
+
 inline std::unique_ptr<SolvedScene> solveScene(Scene scene, const BakeSettings& settings) {
     auto s = std::make_unique<SolvedScene>();
     s->scene = std::move(scene);
