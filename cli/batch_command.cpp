@@ -14,7 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "baker/atomic_output.h"
+#include "baker/util/atomic_output.h"
 #include "cli/batch_manifest.h"
 #include "cli/batch_shards.h"
 #include "cli/batch_stamp.h"

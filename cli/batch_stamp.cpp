@@ -6,7 +6,7 @@
 #include <cstring>
 #include <fstream>
 
-#include "baker/atomic_output.h"
+#include "baker/util/atomic_output.h"
 
 namespace hemibake::cli {
 

@@ -6,11 +6,11 @@
 #include <iostream>
 #include <memory>
 
-#include "baker/compare.h"
-#include "baker/false_color.h"
-#include "baker/html_report.h"
-#include "baker/png_preview.h"
-#include "baker/rgb_image.h"
+#include "baker/compare/compare.h"
+#include "baker/compare/false_color.h"
+#include "baker/compare/html_report.h"
+#include "baker/output/png_preview.h"
+#include "baker/util/rgb_image.h"
 #include "cli/command.h"
 
 namespace hemibake::cli {
@@ -60,7 +60,7 @@ nlohmann::json writeMaps(const Comparison& c, const std::string& prefix, double 
             error.pixels[p] = std::isnan(im.signedRelativeError[p].x) ? glm::vec3(0.0f) : im.signedRelativeError[p];
         writeRgbExr(base + ".exr", error);
         const Rgb8Image map = falseColorMap(worstChannelError(im), im.width, im.height, range);
-        writeBytesAtomically(base + ".png", encodePng(map.rgb.data(), map.width, map.height, 3));
+        writeBytesAtomically(base + ".png", encodePng(reinterpret_cast<const std::uint8_t*>(map.pixels.data()), map.width, map.height, 3));
         written.push_back({{"image", im.name}, {"exr", base + ".exr"}, {"png", base + ".png"}});
     }
     return written;

@@ -12,14 +12,14 @@
 #include <nlohmann/json.hpp>
 #include <tbb/global_control.h>
 
-#include "baker/atomic_output.h"
-#include "baker/bake_layout.h"
-#include "baker/embree_scene.h"
-#include "baker/exr_io.h"
-#include "baker/png_preview.h"
-#include "baker/progressive_reference.h"
-#include "baker/radiance_preview.h"
-#include "baker/rgb_image.h"
+#include "baker/util/atomic_output.h"
+#include "baker/pipeline/bake_layout.h"
+#include "baker/rays/embree_scene.h"
+#include "baker/output/exr_io.h"
+#include "baker/output/png_preview.h"
+#include "baker/reference/progressive_reference.h"
+#include "baker/output/radiance_preview.h"
+#include "baker/util/rgb_image.h"
 #include "cli/camera_options.h"
 #include "cli/command.h"
 #include "cli/progress.h"

@@ -7,11 +7,11 @@
 
 #include <nlohmann/json.hpp>
 
-#include "baker/bake_layout.h"
-#include "baker/baked_scene_view.h"
-#include "baker/exr_io.h"
-#include "baker/radiance_preview.h"
-#include "baker/rgb_image.h"
+#include "baker/pipeline/bake_layout.h"
+#include "baker/output/baked_scene_view.h"
+#include "baker/output/exr_io.h"
+#include "baker/output/radiance_preview.h"
+#include "baker/util/rgb_image.h"
 #include "cli/camera_options.h"
 #include "cli/command.h"
 #include "cli/progress.h"

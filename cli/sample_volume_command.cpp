@@ -6,8 +6,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "baker/probe_io.h"
-#include "baker/volume_lookup.h"
+#include "baker/probes/probe_io.h"
+#include "baker/probes/volume_lookup.h"
 #include "cli/command.h"
 
 namespace hemibake::cli {

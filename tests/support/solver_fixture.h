@@ -2,15 +2,15 @@
 // Runs the full solver on a scene made in code: real OSMesa hemicubes, real Embree rays.
 #include <memory>
 
-#include "baker/embree_scene.h"
-#include "baker/radiosity_solver.h"
+#include "baker/rays/embree_scene.h"
+#include "baker/solve/radiosity_solver.h"
 #include "mesh/scene_builder.h"
 #include "mesh/subdivision.h"
 #include "raster/hemicube_pool.h"
 
 namespace hemibake::test {
 
-struct SolvedScene {
+struct SolvedTestScene {
     Scene scene;
     PatchMesh mesh;
     RadiositySolution solution;
@@ -45,8 +45,8 @@ inline SceneBuilder openSceneWithLamp() {
     return b;
 }
 
-inline std::unique_ptr<SolvedScene> solveScene(Scene scene, const BakeSettings& settings) {
-    auto s = std::make_unique<SolvedScene>();
+inline std::unique_ptr<SolvedTestScene> solveTestScene(Scene scene, const SolveSettings& settings) {
+    auto s = std::make_unique<SolvedTestScene>();
     s->scene = std::move(scene);
     s->mesh = subdivide(s->scene, settings.subdivision);
     HemicubePool pool(s->mesh, settings.solver.hemicubeResolution);
@@ -56,7 +56,7 @@ inline std::unique_ptr<SolvedScene> solveScene(Scene scene, const BakeSettings& 
 }
 
 // Area-weighted mean of the displayed E/π (texel value) over the elements of one instance, or all if -1.
-inline glm::dvec3 meanIrradianceOverPi(const SolvedScene& s, int instance = -1) {
+inline glm::dvec3 meanIrradianceOverPi(const SolvedTestScene& s, int instance = -1) {
     glm::dvec3 sum(0.0);
     double area = 0.0;
     for (std::size_t e = 0; e < s.mesh.elements.size(); ++e) {

@@ -1,0 +1,61 @@
+#pragma once
+// Emissive surfaces as area lights: the direct light they give a surface point, by Lambert's exact contour
+// formula times a shadow-ray estimate of how much of them is visible. The alternative (shooting emitters'
+// power through item-buffer hemicubes) aliases a small bright source into every receiver's value and puts
+// its shadows on the element grid; here the direct term is exact wherever an emitter is wholly visible or
+// wholly hidden, and penumbrae are as sharp as the receiver's sampling (a texel, not an element).
+//
+// Estimator at point p with normal n: E_u = Σ_t L_t·F(p → t) over emitter triangles t (each clipped to the
+// hemisphere above p), then E = E_u · Σ_i a_i·V_i / Σ_i a_i over shadow rays to points x_i picked on triangle t_i
+// with probability ∝ L_t·F(p → t) (stratified), a_i = L_t·A_t·cosθ_p·cosθ_x / (r²·pdf(t_i)): the visible
+// fraction weighted like the integrand. Exact when all V_i agree; a ratio estimator (consistent) otherwise.
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include <memory>
+
+#include "baker/direct/lighting_settings.h"
+#include "mesh/patches.h"
+
+namespace hemibake {
+
+class EmbreeScene;
+
+class EmissiveAreaLights {
+public:
+    // Every emitting element of `mesh` (its own side only: emission leaves the front). `rays` must outlive this.
+    EmissiveAreaLights(const PatchMesh& mesh, const EmbreeScene& rays, int samplesPerPoint);
+
+    bool empty() const { return triangles_.empty(); }
+    std::size_t triangleCount() const { return triangles_.size(); }
+    double emittedPowerW() const;  // π·L_e·A summed over channels and triangles
+
+    // E/π (W·m⁻²·sr⁻¹) at p, unit normal n (the receiving side). `seed` decorrelates neighbouring points.
+    glm::dvec3 irradianceOverPiAt(const glm::dvec3& p, const glm::dvec3& n, std::uint64_t seed) const;
+
+    // Unoccluded E/π from one planar polygon of constant radiance L_e: Lambert's formula on the part of the
+    // polygon above p's tangent plane (it must lie in front of p's surface to contribute).
+    static double unoccludedFormFactor(const glm::dvec3& p, const glm::dvec3& n, const glm::dvec3* polygon, int count);
+
+private:
+    struct Triangle {
+        glm::dvec3 a, b, c;
+        glm::dvec3 normal;  // unit, the emitting side
+        double areaM2;
+        glm::dvec3 radiance;  // L_e
+    };
+    std::vector<Triangle> triangles_;
+    const EmbreeScene& rays_;
+    int samples_;
+};
+
+// The area lights a bake uses, or null when emitters shoot through hemicubes instead: by setting, because the
+// scene has no emitter, or because it has more emitting elements than LightingSettings::maxRayTracedEmitters
+// (every point evaluates every emitter). The solver and the lightmap baker both ask, and get the same answer.
+// `samplesPerPoint` 0 = LightingSettings::emitterSamples.
+std::unique_ptr<EmissiveAreaLights> makeEmissiveAreaLights(const PatchMesh& mesh, const EmbreeScene& rays,
+                                                           const LightingSettings& lighting, int samplesPerPoint = 0);
+
+}  // namespace hemibake

@@ -1,0 +1,50 @@
+#include "baker/direct/sky_light.h"
+#include "mesh/frame_math.h"
+
+#include <cmath>
+
+#include <tbb/parallel_for.h>
+
+namespace hemibake {
+
+namespace {
+
+// A SplitMix64 sequence: jitter reproducible from the seed alone.
+double uniform01(std::uint64_t& state) {
+    state += 0x9E3779B97F4A7C15ull;
+    return double(splitMix64(state - 0x9E3779B97F4A7C15ull) >> 11) * 0x1.0p-53;
+}
+
+}  // namespace
+
+double skyVisibility(const EmbreeScene& rays, const glm::dvec3& p, const glm::dvec3& n, int samples, std::uint64_t seed) {
+    const int side = std::max(1, int(std::ceil(std::sqrt(double(std::max(samples, 1))))));
+    glm::dvec3 t, b;
+    orthonormalBasis(n, t, b);
+    const glm::dvec3 origin = rays.offsetFromSurface(p, n);
+    std::uint64_t state = seed;
+    int open = 0;
+    for (int i = 0; i < side; ++i)
+        for (int j = 0; j < side; ++j) {
+            // Stratified on the unit square, mapped to the cosine-weighted hemisphere (Malley's method).
+            const double u = (i + uniform01(state)) / side, v = (j + uniform01(state)) / side;
+            const double r = std::sqrt(u), phi = 2.0 * M_PI * v;
+            const glm::dvec3 dir = r * std::cos(phi) * t + r * std::sin(phi) * b + std::sqrt(std::max(0.0, 1.0 - u)) * n;
+            open += rays.occludedRay(origin, dir, std::numeric_limits<double>::infinity(), EmbreeScene::RayEnds::Lifted) ? 0 : 1;
+        }
+    return double(open) / double(side * side);
+}
+
+std::vector<glm::dvec3> elementsSkyIrradianceOverPi(const EmbreeScene& rays, const PatchMesh& mesh, glm::vec3 skyRadiance,
+                                                    int samplesPerElement, std::uint64_t seed) {
+    std::vector<glm::dvec3> out(mesh.elements.size(), glm::dvec3(0.0));
+    if (skyRadiance == glm::vec3(0.0f)) return out;
+    tbb::parallel_for(std::size_t(0), out.size(), [&](std::size_t e) {
+        const double v = skyVisibility(rays, mesh.elements.centroid[e], glm::dvec3(mesh.elements.normal[e]),
+                                       samplesPerElement, seed ^ (e * 0xD1B54A32D192ED03ull));
+        out[e] = v * glm::dvec3(skyRadiance);
+    });
+    return out;
+}
+
+}  // namespace hemibake

@@ -1,0 +1,378 @@
+#include "baker/lightmap/lightmap_baker.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <tbb/parallel_for.h>
+
+#include "baker/direct/direct_light.h"
+#include "baker/lightmap/element_interpolation.h"
+#include "baker/direct/emissive_area_lights.h"
+#include "baker/rays/embree_scene.h"
+#include "baker/solve/gatherer.h"
+#include "baker/solve/solve_scene.h"
+#include "raster/hemicube_pool.h"
+#include "baker/util/colour.h"
+
+namespace hemibake {
+
+namespace {
+
+
+// One atlas's texels on its grid, for neighbour lookups.
+struct TexelGrid {
+    const AtlasTexels& t;
+    std::vector<std::int32_t> at;  // size² → texel index or -1
+    explicit TexelGrid(const AtlasTexels& texels) : t(texels), at(std::size_t(texels.size) * std::size_t(texels.size), -1) {
+        for (std::size_t i = 0; i < t.count(); ++i) at[std::size_t(t.y[i]) * std::size_t(t.size) + t.x[i]] = std::int32_t(i);
+    }
+    std::int32_t find(int x, int y) const {
+        if (x < 0 || y < 0 || x >= t.size || y >= t.size) return -1;
+        return at[std::size_t(y) * std::size_t(t.size) + std::size_t(x)];
+    }
+};
+
+// Neighbours can stand in for each other only on one continuous piece of surface: same instance, similar
+// normal, and as far apart in the world as in the atlas (a chart boundary breaks that).
+bool continuous(const AtlasTexels& t, std::size_t a, std::size_t b, double maxDistanceM) {
+    return t.instance[a] == t.instance[b] && glm::dot(t.normal[a], t.normal[b]) > 0.9f &&
+           glm::length(t.position[a] - t.position[b]) <= maxDistanceM;
+}
+
+using GatherFn = std::function<void(const std::vector<std::uint32_t>&, std::vector<glm::dvec3>&, std::vector<float>&)>;
+
+// Elias-style adaptive placement over one atlas: per level the coarse lattice, then edge midpoints (between two
+// lattice points on a row or column), then cell centres (which can then use the midpoints around them as well as
+// the diagonal corners). `gather` renders a list of texels.
+class AdaptivePlacer {
+public:
+    AdaptivePlacer(const AtlasTexels& texels, const LightmapSettings& settings, double texelSizeM, const GatherFn& gather,
+                   const std::vector<glm::dvec3>& direct, LightmapStats& stats)
+        : t_(texels), grid_(texels), settings_(settings), texelSizeM_(texelSizeM), gather_(gather), direct_(direct),
+          stats_(stats), done_(texels.count(), 0) {
+        while (coarse_ * 2 <= std::max(settings.latticeStep, 1)) coarse_ *= 2;
+    }
+
+    // Fills `value` (E/π gathered, without direct light) and `invalid` (inside geometry) for every texel.
+    void run(std::vector<glm::dvec3>& value, std::vector<std::uint8_t>& invalid, const std::function<void(std::size_t)>& advanced) {
+        const std::size_t n = t_.count();
+        value.assign(n, glm::dvec3(0.0));
+        invalid.assign(n, 0);
+        value_ = &value;
+        invalid_ = &invalid;
+        for (int step = coarse_; step >= 1; step /= 2)
+            for (const Phase phase : {Phase::Lattice, Phase::EdgeMidpoints, Phase::CellCentres}) {
+                if (phase == Phase::Lattice && step != coarse_) continue;
+                for (std::size_t i = 0; i < n; ++i) visit(phase, step, i);
+                render(phase, step);
+                advanced(rendered_);
+            }
+    }
+
+private:
+    enum class Phase { Lattice, EdgeMidpoints, CellCentres };
+    // What interpolation would give at a texel, and the curvature it drops there.
+    struct Estimate {
+        bool ok = false;
+        glm::dvec3 value{0.0};
+        double curvature = 0.0, scale = 0.0;
+    };
+
+    // Interpolates texel i when its neighbours at this step agree, else queues it for a hemicube.
+    void visit(Phase phase, int step, std::size_t i) {
+        const int x = t_.x[i], y = t_.y[i];
+        if (done_[i] || x % step || y % step) return;
+        if (phase == Phase::Lattice) {
+            batch_.push_back(std::uint32_t(i));
+            return;
+        }
+        const bool oddX = (x / step) % 2 == 1, oddY = (y / step) % 2 == 1;
+        if ((oddX != oddY) != (phase == Phase::EdgeMidpoints)) return;
+        Estimate e = phase == Phase::EdgeMidpoints ? edgeMidpoint(i, step, oddX, oddY) : cellCentre(i, step);
+        // The tolerance is relative to what the texel will hold: the gathered light plus the direct light added
+        // by rays afterwards (a faint bounce beside a bright direct term needs no hemicube).
+        if (!direct_.empty()) e.scale += channelSum(direct_[i]);
+        if (e.ok && e.curvature <= settings_.interpolationTolerance * (e.scale + floor_)) {
+            (*value_)[i] = glm::max(e.value, glm::dvec3(0.0));
+            done_[i] = 1;
+            ++stats_.interpolated;
+        } else {
+            batch_.push_back(std::uint32_t(i));
+        }
+    }
+
+    // The value of a finished, valid neighbour on the same piece of surface, if there is one.
+    bool neighbour(std::size_t i, int dx, int dy, int step, glm::dvec3& v) const {
+        const double reach = 1.5 * std::sqrt(2.0) * step * texelSizeM_;  // world distance of a lattice neighbour
+        const std::int32_t j = grid_.find(t_.x[i] + dx, t_.y[i] + dy);
+        if (j < 0 || !done_[std::size_t(j)] || (*invalid_)[std::size_t(j)] || !continuous(t_, i, std::size_t(j), 3.0 * reach))
+            return false;
+        v = (*value_)[std::size_t(j)];
+        return true;
+    }
+
+    // Interpolate only where the light is locally smooth, and then to second order: a linear average of a curved
+    // profile is biased (a wall lit from above is concave across its middle, and every interpolated texel there
+    // would come out a little dark). Edge midpoints use the cubic through the four lattice points on their line.
+    Estimate edgeMidpoint(std::size_t i, int step, bool oddX, bool oddY) const {
+        Estimate e;
+        const int ux = oddX ? step : 0, uy = oddY ? step : 0;
+        glm::dvec3 b, c, a, d;
+        if (!neighbour(i, -ux, -uy, step, b) || !neighbour(i, ux, uy, step, c)) return e;
+        e.ok = true;
+        e.scale = std::max(channelSum(b), channelSum(c));
+        if (neighbour(i, -3 * ux, -3 * uy, step, a) && neighbour(i, 3 * ux, 3 * uy, step, d)) {
+            e.value = (9.0 * (b + c) - a - d) / 16.0;
+            e.curvature = std::abs(channelSum(-a + b + c - d)) / 16.0;  // |cubic − linear| at the midpoint
+        } else {
+            e.value = 0.5 * (b + c);
+            e.curvature = std::abs(channelSum(b - c));  // at a chart edge: plain agreement
+        }
+        return e;
+    }
+
+    // Cell centres: 2·(axis mean) − (diagonal mean), exact for any quadratic; the twist term and the axis/diagonal
+    // disagreement measure what it drops.
+    Estimate cellCentre(std::size_t i, int step) const {
+        Estimate e;
+        glm::dvec3 c00, c10, c01, c11, l, r, u, dn;
+        if (!neighbour(i, -step, -step, step, c00) || !neighbour(i, step, -step, step, c10) ||
+            !neighbour(i, -step, step, step, c01) || !neighbour(i, step, step, step, c11))
+            return e;
+        e.ok = true;
+        const glm::dvec3 diagonal = 0.25 * (c00 + c10 + c01 + c11);
+        e.scale = std::max({channelSum(c00), channelSum(c10), channelSum(c01), channelSum(c11)});
+        e.curvature = std::abs(channelSum(c00 + c11 - c10 - c01)) / 2.0;  // the twist term
+        e.value = diagonal;
+        if (neighbour(i, -step, 0, step, l) && neighbour(i, step, 0, step, r) && neighbour(i, 0, -step, step, u) &&
+            neighbour(i, 0, step, step, dn)) {
+            const glm::dvec3 axis = 0.25 * (l + r + u + dn);
+            e.value = 2.0 * axis - diagonal;
+            e.curvature = std::max(e.curvature, std::abs(channelSum(axis - diagonal)));
+        }
+        return e;
+    }
+
+    // Renders the queued texels; the coarse lattice's mean sets the absolute agreement floor.
+    void render(Phase phase, int step) {
+        gather_(batch_, gathered_, backface_);
+        for (std::size_t k = 0; k < batch_.size(); ++k) {
+            (*value_)[batch_[k]] = gathered_[k];
+            (*invalid_)[batch_[k]] = backface_[k] > settings_.invalidBackfaceFraction;
+            done_[batch_[k]] = 1;
+        }
+        stats_.rendered += batch_.size();
+        if (phase == Phase::Lattice && step == coarse_ && !batch_.empty()) {
+            double mean = 0.0;
+            for (const glm::dvec3& g : gathered_) mean += channelSum(g);
+            floor_ = 0.01 * mean / double(batch_.size());
+        }
+        rendered_ = batch_.size();
+        batch_.clear();
+    }
+
+    const AtlasTexels& t_;
+    const TexelGrid grid_;
+    const LightmapSettings& settings_;
+    const double texelSizeM_;
+    const GatherFn& gather_;
+    const std::vector<glm::dvec3>& direct_;
+    LightmapStats& stats_;
+    std::vector<std::uint8_t> done_;
+    std::vector<glm::dvec3>* value_ = nullptr;
+    std::vector<std::uint8_t>* invalid_ = nullptr;
+    int coarse_ = 1;
+    double floor_ = 0.0;  // absolute agreement floor, from the coarse level's mean
+    std::vector<std::uint32_t> batch_;
+    std::vector<glm::dvec3> gathered_;
+    std::vector<float> backface_;
+    std::size_t rendered_ = 0;
+};
+
+// Texels inside geometry saw mostly back faces: take the mean of valid continuous neighbours (a few rings).
+void refillInvalid(const AtlasTexels& texels, double texelSizeM, std::vector<glm::dvec3>& value,
+                   std::vector<std::uint8_t>& invalid) {
+    const TexelGrid grid(texels);
+    for (int ring = 0; ring < 4; ++ring) {
+        std::vector<std::pair<std::size_t, glm::dvec3>> fixes;
+        for (std::size_t i = 0; i < texels.count(); ++i) {
+            if (!invalid[i]) continue;
+            glm::dvec3 sum(0.0);
+            int count = 0;
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    const std::int32_t j = grid.find(texels.x[i] + dx, texels.y[i] + dy);
+                    if (j < 0 || invalid[std::size_t(j)] || !continuous(texels, i, std::size_t(j), 3.0 * texelSizeM)) continue;
+                    sum += value[std::size_t(j)];
+                    ++count;
+                }
+            if (count) fixes.emplace_back(i, sum / double(count));
+        }
+        if (fixes.empty()) break;
+        for (const auto& [i, v] : fixes) {
+            value[i] = v;
+            invalid[i] = 0;
+        }
+    }
+}
+
+}  // namespace
+
+std::size_t dilate(LightmapImage& image, int iterations) {
+    std::size_t filled = 0;
+    const int s = image.size;
+    for (int it = 0; it < iterations; ++it) {
+        std::vector<std::pair<std::size_t, glm::vec3>> fills;
+        for (int y = 0; y < s; ++y)
+            for (int x = 0; x < s; ++x) {
+                if (image.state[image.index(x, y)] != TexelState::Empty) continue;
+                glm::vec3 sum(0.0f);
+                int count = 0;
+                for (int dy = -1; dy <= 1; ++dy)
+                    for (int dx = -1; dx <= 1; ++dx) {
+                        const int nx = x + dx, ny = y + dy;
+                        if (nx < 0 || ny < 0 || nx >= s || ny >= s) continue;
+                        if (image.state[image.index(nx, ny)] == TexelState::Empty) continue;
+                        sum += image.irradianceOverPi[image.index(nx, ny)];
+                        ++count;
+                    }
+                if (count) fills.emplace_back(image.index(x, y), sum / float(count));
+            }
+        for (const auto& [i, v] : fills) {
+            image.irradianceOverPi[i] = v;
+            image.state[i] = TexelState::Dilated;
+        }
+        filled += fills.size();
+    }
+    return filled;
+}
+
+namespace {
+
+// What every atlas's texels are computed from: the solved elements as the gather and the interpolation see them,
+// and the ray-traced direct light.
+class TexelSolver {
+public:
+    TexelSolver(const Scene& scene, const SolvedScene& solved, const EmbreeScene& rays, const LightmapSettings& settings,
+                const SolveSettings& solve)
+        : scene_(scene), settings_(settings), solve_(solve),
+          // Ray-traced direct light at every texel: punctual lights, and emitters when the solver ray traced them
+          // (same decision, same inputs); the gather then sees emitters without their emission.
+          areaLights_(makeEmissiveAreaLights(solved.mesh, rays, solve.lighting)),
+          gatherer_(*solved.pool, solve.solver.seed ^ 0x5EEDull),
+          interpolator_(solved.mesh, displayIrradiance(solved)) {
+        if (!scene.lights.empty() || areaLights_) {
+            DirectLightSettings ds;
+            ds.sunAngularDiameterRad = solve.lighting.sunAngularDiameterRad;
+            direct_ = std::make_unique<DirectLight>(scene, rays, ds, areaLights_.get());
+        }
+        if (settings.mode == TexelMode::Gather) {
+            std::vector<glm::vec3> radiance(solved.mesh.elements.size());
+            for (std::size_t e = 0; e < radiance.size(); ++e)
+                radiance[e] = solved.solution.gatherRadiance(solved.mesh, e, areaLights_ != nullptr);
+            gatherer_.setElementRadiance(radiance);
+        }
+    }
+
+    // E/π of atlas `a`'s texels by adaptively placed final-gather hemicubes plus direct light per texel.
+    std::vector<glm::dvec3> gathered(std::size_t a, const AtlasTexels& t, double texelSizeM, LightmapStats& stats,
+                                     const std::function<void(std::size_t)>& advanced) {
+        const GatherFn gather = [&](const std::vector<std::uint32_t>& ids, std::vector<glm::dvec3>& out,
+                                    std::vector<float>& backface) {
+            std::vector<GatherPoint> points(ids.size());
+            for (std::size_t k = 0; k < ids.size(); ++k) points[k] = {t.position[ids[k]], t.normal[ids[k]]};
+            gatherer_.gather(points, solve_.lighting.skyRadiance, a + 1, out, &backface);
+        };
+        // Direct light at every texel: its shadows are as sharp as the texel grid allows.
+        std::vector<glm::dvec3> directValue;
+        if (direct_) {
+            directValue.resize(t.count());
+            tbb::parallel_for(std::size_t(0), t.count(),
+                              [&](std::size_t i) { directValue[i] = directAt(a, t, i); });
+        }
+        std::vector<glm::dvec3> value;
+        std::vector<std::uint8_t> invalid;
+        AdaptivePlacer(t, settings_, texelSizeM, gather, directValue, stats).run(value, invalid, advanced);
+        stats.invalid += std::size_t(std::count(invalid.begin(), invalid.end(), 1));
+        refillInvalid(t, texelSizeM, value, invalid);
+        for (std::size_t i = 0; i < directValue.size(); ++i) value[i] += directValue[i];
+        return value;
+    }
+
+    // E/π of atlas `a`'s texels interpolated from the elements, plus direct light per texel.
+    std::vector<glm::dvec3> interpolated(std::size_t a, const AtlasTexels& t) const {
+        std::vector<glm::dvec3> value(t.count(), glm::dvec3(0.0));
+        tbb::parallel_for(std::size_t(0), t.count(), [&](std::size_t i) {
+            const SurfaceMesh& m = scene_.instances[std::size_t(t.instance[i])].mesh;
+            const auto sourceFace = std::uint32_t(m.sourceFace(SurfaceMesh::FaceHandle(t.face[i])));
+            const auto e = interpolator_.locate(std::uint32_t(t.instance[i]), sourceFace, t.position[i]);
+            if (e) value[i] = interpolator_.valueAt(*e, t.position[i]) / M_PI;
+            if (direct_) value[i] += directAt(a, t, i);
+        });
+        return value;
+    }
+
+private:
+    glm::dvec3 directAt(std::size_t a, const AtlasTexels& t, std::size_t i) const {
+        return direct_->irradianceOverPiAt(t.position[i], t.normal[i], std::uint32_t(i * 2654435761u + a));
+    }
+
+    // Interpolated texels take only what the elements know better than a ray at the texel: the rest is evaluated
+    // per texel, with its sharp shadows.
+    std::vector<glm::dvec3> displayIrradiance(const SolvedScene& solved) const {
+        const bool subtractRayTraced = !scene_.lights.empty() || areaLights_;
+        std::vector<glm::dvec3> irradiance(solved.mesh.elements.size());
+        for (std::size_t e = 0; e < irradiance.size(); ++e) {
+            irradiance[e] = solved.solution.displayIrradiance(e);
+            if (subtractRayTraced && e < solved.solution.rayTracedIrradiance.size())
+                irradiance[e] = glm::max(irradiance[e] - solved.solution.rayTracedIrradiance[e], glm::dvec3(0.0));
+        }
+        return irradiance;
+    }
+
+    const Scene& scene_;
+    const LightmapSettings& settings_;
+    const SolveSettings& solve_;
+    std::unique_ptr<EmissiveAreaLights> areaLights_;
+    std::unique_ptr<DirectLight> direct_;
+    Gatherer gatherer_;
+    ElementInterpolator interpolator_;
+};
+
+}  // namespace
+
+std::vector<LightmapImage> bakeLightmaps(const Scene& scene, const SolvedScene& solved, const UvAtlas& atlas,
+                                         const std::vector<AtlasTexels>& texels, const EmbreeScene& rays,
+                                         const LightmapSettings& settings, const SolveSettings& solve, LightmapStats& stats,
+                                         const LightmapProgress& progress) {
+    std::vector<LightmapImage> images(texels.size());
+    std::size_t total = 0, done = 0;
+    for (const AtlasTexels& t : texels) total += t.count();
+    stats.texels = total;
+    const double texelSizeM = atlas.texelsPerUnit > 0.0 ? 1.0 / atlas.texelsPerUnit : 0.0;
+    TexelSolver solver(scene, solved, rays, settings, solve);
+    for (std::size_t a = 0; a < texels.size(); ++a) {
+        const AtlasTexels& t = texels[a];
+        std::vector<glm::dvec3> value;
+        if (settings.mode == TexelMode::Gather) {
+            value = solver.gathered(a, t, texelSizeM, stats, [&](std::size_t k) {
+                done += k;
+                if (progress) progress(done, total);
+            });
+        } else {
+            value = solver.interpolated(a, t);
+            done += t.count();
+            if (progress) progress(done, total);
+        }
+        LightmapImage& image = images[a];
+        image.resize(t.size);
+        for (std::size_t i = 0; i < t.count(); ++i) {
+            const std::size_t px = image.index(t.x[i], t.y[i]);
+            image.irradianceOverPi[px] = glm::vec3(value[i]);
+            image.state[px] = TexelState::Covered;
+        }
+    }
+    return images;
+}
+
+}  // namespace hemibake

@@ -1,0 +1,45 @@
+#pragma once
+// Lightmap texel values (E/π) from a solved scene. Punctual lights are evaluated at every texel with shadow
+// rays (crisp shadows at texel resolution); the rest (emitters, interreflection, sky) comes from final-gather
+// hemicubes placed Elias-style: a coarse lattice first, then midpoints only where the lattice neighbours
+// disagree, interpolation where they agree.
+#include <functional>
+#include <vector>
+
+#include "baker/lightmap/lightmap_settings.h"
+#include "baker/lightmap/lightmap.h"
+#include "baker/solve/radiosity_solution.h"
+#include "baker/solve/solve_settings.h"
+#include "mesh/patches.h"
+#include "mesh/texels.h"
+#include "mesh/uv_atlas.h"
+
+namespace hemibake {
+
+class EmbreeScene;
+class HemicubePool;
+struct SolvedScene;
+
+struct LightmapStats {
+    std::size_t texels = 0;
+    std::size_t rendered = 0;      // texels that rendered a hemicube
+    std::size_t interpolated = 0;  // texels interpolated from agreeing lattice neighbours
+    std::size_t invalid = 0;       // texels inside geometry (mostly back faces seen), refilled from neighbours
+    std::size_t dilated = 0;       // padding texels filled (by dilate(), before seam stitching)
+    double renderedFraction() const { return texels ? double(rendered) / double(texels) : 0.0; }
+};
+
+using LightmapProgress = std::function<void(std::size_t done, std::size_t total)>;
+
+// E/π per texel of every atlas (Covered where a texel is, Empty elsewhere), from `solved` (its pool renders the
+// final gathers) and `rays` of `scene`. Lighting and the gather seed come from `solve`, the settings the scene
+// was solved with. Uses every core; throws what the renderer throws.
+std::vector<LightmapImage> bakeLightmaps(const Scene& scene, const SolvedScene& solved, const UvAtlas& atlas,
+                                         const std::vector<AtlasTexels>& texels, const EmbreeScene& rays,
+                                         const LightmapSettings& settings, const SolveSettings& solve, LightmapStats& stats,
+                                         const LightmapProgress& progress = {});
+
+// Fills Empty texels next to Covered ones with the mean of their covered 8-neighbours, `iterations` rings deep.
+std::size_t dilate(LightmapImage& image, int iterations);
+
+}  // namespace hemibake

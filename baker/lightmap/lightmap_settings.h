@@ -1,0 +1,36 @@
+#pragma once
+// The lightmap stage's knobs: unwrap density and atlas, texel samples, final-gather placement, dilation, seams.
+#include <string>
+
+#include "mesh/texels.h"
+#include "mesh/uv_atlas.h"
+
+namespace hemibake {
+
+enum class TexelMode {
+    Interpolate,  // texels interpolate the element solution (fast)
+    Gather,       // texels gather from a final hemicube each, placed adaptively (quality; every preset)
+};
+const char* texelModeName(TexelMode mode);
+TexelMode parseTexelMode(const std::string& name);  // throws std::invalid_argument
+
+struct LightmapSettings {
+    double texelsPerUnit = 0.0;     // texels per metre; 0 = from the preset and scene size (defaultTexelsPerUnit)
+    int maxAtlasSize = 1024;
+    int paddingTexels = 2;
+    TexelMode mode = TexelMode::Gather;
+    int latticeStep = 4;            // Elias-style placement: hemicubes on every 4th texel first (power of two)
+    double interpolationTolerance = 0.05;  // interpolate a texel when its lattice neighbours agree within this
+    double invalidBackfaceFraction = 0.1;  // a texel whose hemicube sees more back faces is inside geometry
+    int dilationTexels = 2;         // padding texels filled from their chart's edge
+    bool stitchSeams = true;
+    bool keepExistingUv = false;    // use TEXCOORD_1 from the input where present
+    TexelSettings texels;           // where each texel samples the surface (mesh/texels.h)
+};
+
+// The unwrap settings a bake uses (texelsPerUnit must be resolved, > 0).
+UnwrapSettings unwrapSettingsFor(const LightmapSettings& lightmap);
+// Preset default density: about 64 texels along the scene diagonal per preset step, with a floor per metre.
+double defaultTexelsPerUnit(const std::string& preset, double sceneDiagonalM);
+
+}  // namespace hemibake

@@ -1,0 +1,136 @@
+#include "baker/pipeline/bake_report.h"
+
+#include <fstream>
+#include <sstream>
+
+#include "baker/probes/probe_io.h"
+
+namespace hemibake {
+
+namespace {
+
+template <class V>
+nlohmann::json vec(const V& v) { return {v.x, v.y, v.z}; }
+
+nlohmann::json convergenceJson(const SolveReport& solve) {
+    nlohmann::json history = nlohmann::json::array();
+    for (const ConvergenceRecord& r : solve.history.records())
+        history.push_back({{"shots", r.shots}, {"seconds", r.seconds}, {"unshotFraction", r.unshotFraction},
+                           {"errorBound", r.errorBound}});
+    return {{"stopReason", solve.stopReason},
+            {"shots", solve.shots},
+            {"hemicubes", solve.hemicubes},
+            {"cachedShots", solve.cachedShots},
+            {"emittersByRays", solve.emittersByRays},
+            {"formFactorCacheMiB", double(solve.formFactorCacheBytes) / 1048576.0},
+            {"gatherSweeps", solve.gatherSweeps},
+            {"unshotFraction", solve.unshotFraction},
+            {"errorBound", solve.errorBound},
+            {"ambientRadiosity", vec(solve.ambientRadiosity)},
+            // The solve's own stages, inside timings.solve.
+            {"seconds", {{"direct", solve.directSeconds}, {"shoot", solve.shootSeconds}, {"gather", solve.gatherSeconds}}},
+            {"history", history}};
+}
+
+nlohmann::json lightmapJson(const LightmapReport& lm) {
+    nlohmann::json atlases = nlohmann::json::array(), surfaces = nlohmann::json::array();
+    for (const LightmapReport::Atlas& a : lm.atlases) atlases.push_back({{"size", a.size}, {"utilization", a.utilization}});
+    double worstSurface = 0.0;
+    for (const SurfaceAgreement& s : lm.surfaces) {
+        worstSurface = std::max(worstSurface, s.relativeDifference());
+        surfaces.push_back({{"node", s.nodeName},
+                            {"instance", s.instance},
+                            {"texels", s.texels},
+                            {"elementMeanIrradianceOverPi", vec(s.elementMean)},
+                            {"lightmapMeanIrradianceOverPi", vec(s.lightmapMean)},
+                            {"relativeDifference", s.relativeDifference()}});
+    }
+    const LightmapStats& st = lm.stats;
+    return {{"texelsPerUnit", lm.texelsPerUnit},
+            {"files", lm.files},
+            {"atlases", atlases},
+            {"texels", st.texels},
+            {"renderedTexels", st.rendered},
+            {"renderedFraction", st.renderedFraction()},
+            {"interpolatedTexels", st.interpolated},
+            {"invalidTexels", st.invalid},
+            {"dilatedTexels", st.dilated},
+            {"charts", lm.charts},
+            {"surfaceAgreement", {{"maxRelativeDifference", worstSurface}, {"surfaces", surfaces}}},
+            {"seams", {{"edges", lm.seams.seamEdges},
+                       {"samples", lm.seams.samples},
+                       {"maxRelativeBefore", lm.seams.maxRelativeBefore},
+                       {"maxRelativeAfter", lm.seams.maxRelativeAfter},
+                       {"meanRelativeBefore", lm.seams.meanRelativeBefore},
+                       {"meanRelativeAfter", lm.seams.meanRelativeAfter}}}};
+}
+
+}  // namespace
+
+nlohmann::json BakeReport::toJson() const {
+    nlohmann::json j;
+    j["format"] = "hemibake-bake/1";
+    j["scene"] = scenePath;
+    j["sceneAbsolute"] = sceneAbsolute;
+    j["settings"] = hemibake::toJson(settings);
+    j["timings"] = nlohmann::json::object();
+    for (const StageTiming& t : timings) j["timings"][t.stage] = t.seconds;
+    j["timings"]["total"] = totalSeconds;
+    j["peakMemoryMiB"] = peakMemoryMiB;
+    j["counts"] = {{"triangles", triangles}, {"patches", patches}, {"elements", elements}};
+    j["warnings"] = warnings;
+    j["convergence"] = convergenceJson(solve);
+    j["power"] = {{"emittedW", vec(solve.emitterPowerW)},
+                  {"directW", vec(solve.directPowerW)},
+                  {"absorbedW", vec(solve.absorbedPowerW)},
+                  {"escapedW", vec(solve.escapedPowerW)},
+                  {"backfaceW", vec(solve.backfacePowerW)},
+                  {"unshotW", vec(solve.unshotPowerW)}};
+    j["exposedArea"] = {{"elementsTrimmed", exposedArea.elementsTrimmed},
+                        {"elementsCovered", exposedArea.elementsCovered},
+                        {"areaRemovedM2", exposedArea.areaRemovedM2}};
+    j["refinement"] = {{"elementsBefore", refinement.elementsBefore},
+                       {"elementsAfter", refinement.elementsAfter},
+                       {"regions", refinement.regions}};
+    if (lightmap) j["lightmap"] = lightmapJson(*lightmap);
+    j["primitives"] = nlohmann::json::array();
+    for (const BakedPrimitive& p : primitives)
+        j["primitives"].push_back({{"node", p.node},
+                                   {"mesh", p.mesh},
+                                   {"primitive", p.primitive},
+                                   {"lightmap", p.lightmap},
+                                   {"rect", {p.rect[0], p.rect[1], p.rect[2], p.rect[3]}}});
+    if (probes)
+        j["probes"] = {{"file", probes->file}, {"count", probes->count}, {"insideGeometry", probes->insideGeometry},
+                       {"seconds", probes->seconds}};
+    if (volume)
+        j["volume"] = {{"file", kVolumeJsonName},
+                       {"files", volume->files},
+                       {"resolution", vec(volume->resolution)},
+                       {"min", vec(volume->min)},
+                       {"max", vec(volume->max)},
+                       {"probes", volume->probes},
+                       {"invalidProbes", volume->invalid},
+                       {"relocatedProbes", volume->relocated},
+                       {"bytes", volume->bytes},
+                       {"seconds", volume->seconds}};
+    if (preview)
+        j["preview"] = {{"camera", preview->camera}, {"exr", preview->exr}, {"png", preview->png},
+                        {"width", preview->width}, {"height", preview->height}};
+    return j;
+}
+
+double peakResidentMemoryMiB() {
+    std::ifstream status("/proc/self/status");
+    std::string line;
+    while (std::getline(status, line))
+        if (line.rfind("VmHWM:", 0) == 0) {
+            std::istringstream in(line.substr(6));
+            double kib = 0.0;
+            in >> kib;
+            return kib / 1024.0;
+        }
+    return 0.0;
+}
+
+}  // namespace hemibake

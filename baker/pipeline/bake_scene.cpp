@@ -1,0 +1,214 @@
+#include "baker/pipeline/bake_scene.h"
+
+#include <algorithm>
+#include <cstdio>
+
+#include <tbb/global_control.h>
+
+#include "baker/lightmap/lightmap_seams.h"
+#include "baker/lightmap/surface_agreement.h"
+#include "baker/output/baked_scene_view.h"
+#include "baker/output/exr_io.h"
+#include "baker/output/png_preview.h"
+#include "baker/output/radiance_preview.h"
+#include "baker/pipeline/bake_probes.h"
+#include "baker/rays/embree_scene.h"
+#include "baker/rays/inside_geometry.h"
+#include "baker/util/atomic_output.h"
+#include "baker/util/rgb_image.h"
+#include "baker/util/stopwatch.h"
+
+namespace hemibake {
+
+namespace {
+
+std::string percent(double fraction) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.3g%%", 100.0 * fraction);
+    return buf;
+}
+
+// The stages in order; each step fills its part of the result and times itself (timings do not overlap).
+class Pipeline {
+public:
+    Pipeline(const Scene& scene, const BakeSettings& settings, const BakeOutput& output, const BakeProgress& progress)
+        : scene_(scene), output_(output), progress_(progress) {
+        BakeReport& r = result_.report;
+        r.scenePath = output.scenePath;
+        r.sceneAbsolute = output.scenePath.empty()
+                              ? std::string()
+                              : std::filesystem::absolute(output.scenePath).lexically_normal().string();
+        r.settings = resolved(settings, scene.bounds().diagonal());
+        r.triangles = scene.triangleCount();
+        if (output.loadSeconds > 0.0) r.timings.push_back({"load", output.loadSeconds});
+        for (const std::string& w : scene.report.warnings) warn(w);
+    }
+
+    BakeResult run() {
+        const BakeSettings& s = result_.report.settings;
+        std::unique_ptr<tbb::global_control> threadLimit;
+        if (s.solve.solver.threads > 0)
+            threadLimit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                                                std::size_t(s.solve.solver.threads));
+        const std::vector<glm::dvec3> positions = probePositions(s.probes, scene_);  // a bad file fails before the solve
+        update("preparing");
+        const EmbreeScene rays(scene_);
+        stage("setup");
+        solve(rays);
+        probes(positions);
+        unwrap();
+        lightmaps(rays);
+        write(rays);
+        preview();
+        BakeReport& r = result_.report;
+        r.totalSeconds = output_.loadSeconds + total_.seconds();
+        r.peakMemoryMiB = peakResidentMemoryMiB();
+        if (!output_.dir.empty()) writeTextAtomically(output_.dir / "bake.json", r.toJson().dump(2) + "\n");
+        return std::move(result_);
+    }
+
+private:
+    static BakeSettings resolved(BakeSettings s, double sceneDiagonalM) {
+        const int r = s.solve.solver.hemicubeResolution;
+        if (r < 2 || r % 2) throw std::invalid_argument("--hemicube-res must be an even number >= 2");
+        if (!(s.lightmap.texelsPerUnit > 0.0)) s.lightmap.texelsPerUnit = defaultTexelsPerUnit(s.preset, sceneDiagonalM);
+        return s;
+    }
+
+    void send(BakeProgressEvent::Kind kind, const std::string& message) {
+        if (progress_ && !progress_({kind, message})) throw BakeCancelled();
+    }
+    void update(const std::string& message) { send(BakeProgressEvent::Kind::Update, message); }
+    void done(const std::string& message) { send(BakeProgressEvent::Kind::StageDone, message); }
+    void warn(const std::string& message) {
+        result_.report.warnings.push_back(message);
+        send(BakeProgressEvent::Kind::Warning, message);
+    }
+    void stage(const char* name) { result_.report.timings.push_back({name, clock_.lap()}); }
+
+    void solve(const EmbreeScene& rays) {
+        const SolveSettings& s = result_.report.settings.solve;
+        result_.solved = solveScene(scene_, s, rays, [&](const std::string& stage, const ConvergenceRecord& r) {
+            std::string line = stage + ": ";
+            if (stage == "shoot")
+                line += std::to_string(r.shots) + " shots, unshot " + percent(r.unshotFraction) + " of injected (stop at " +
+                        percent(s.solver.epsilon) + ")";
+            else
+                line += "sweep done, error bound " + percent(r.errorBound);
+            char t[32];
+            std::snprintf(t, sizeof t, ", %.1f s", r.seconds);
+            update(line + t);
+        });
+        const SolvedScene& solved = *result_.solved;
+        BakeReport& report = result_.report;
+        report.solve = solved.report;
+        report.patches = solved.mesh.patches.size();
+        report.elements = solved.mesh.elements.size();
+        report.exposedArea = solved.exposedArea;
+        report.refinement = {solved.elementsBeforeRefinement, solved.mesh.elements.size(), solved.refinementRegions};
+        std::size_t emitting = 0;
+        for (const glm::vec3& l : solved.mesh.elements.emittedRadiance) emitting += (l.x > 0.0f || l.y > 0.0f || l.z > 0.0f);
+        if (s.lighting.emitters == EmitterLighting::Rays && emitting > 0 && !solved.report.emittersByRays)
+            warn(std::to_string(emitting) + " emitting elements (more than " + std::to_string(s.lighting.maxRayTracedEmitters) +
+                 "): emitters shoot through hemicubes instead of rays (their shadows follow the element grid)");
+        stage("solve");
+        const SolveReport& sr = solved.report;
+        done("solved: " + sr.stopReason + ", " + std::to_string(sr.shots) + " shots, " + std::to_string(sr.gatherSweeps) +
+             " gather sweeps, unshot " + percent(sr.unshotFraction) + ", error bound " + percent(sr.errorBound));
+    }
+
+    // Probes and the irradiance volume see the solved elements (displayRadiosity / π) and the sky.
+    void probes(const std::vector<glm::dvec3>& positions) {
+        const BakeSettings& s = result_.report.settings;
+        BakeReport& r = result_.report;
+        bakeProbes(s.probes, positions, scene_, *result_.solved, s.solve.lighting.skyRadiance, output_.dir, r.probes, r.volume,
+                   [&](const std::string& line, bool finished) { finished ? done(line) : update(line); });
+        clock_.lap();  // the probe stages timed themselves
+        if (r.probes) r.timings.push_back({"probes", r.probes->seconds});
+        if (r.volume) r.timings.push_back({"volume", r.volume->seconds});
+    }
+
+    void unwrap() {
+        const LightmapSettings& s = result_.report.settings.lightmap;
+        update("unwrapping");
+        result_.atlas = unwrapScene(scene_, unwrapSettingsFor(s));
+        result_.texels = computeTexels(scene_, result_.atlas, s.texels);
+        for (const std::string& w : result_.atlas.warnings) warn(w);
+        stage("unwrap");
+    }
+
+    // Bake E/π per texel, dilate, then stitch seams. Dilation first: bilinear taps at a seam reach into the padding,
+    // so stitching must see (and adjust) the final padding values, or dilating afterwards would reopen the seams.
+    void lightmaps(const EmbreeScene& rays) {
+        const BakeSettings& s = result_.report.settings;
+        LightmapReport& lm = result_.report.lightmap.emplace();
+        result_.lightmaps = bakeLightmaps(scene_, *result_.solved, result_.atlas, result_.texels, rays, s.lightmap, s.solve,
+                                          lm.stats, [&](std::size_t doneTexels, std::size_t total) {
+                                              update("lightmaps: " + std::to_string(doneTexels) + " / " +
+                                                     std::to_string(total) + " texels");
+                                          });
+        for (LightmapImage& image : result_.lightmaps) lm.stats.dilated += dilate(image, s.lightmap.dilationTexels);
+        lm.seams = stitchSeams(scene_, result_.atlas, result_.lightmaps, s.lightmap.stitchSeams);
+        stage("lightmaps");
+    }
+
+    // Per-surface agreement with the elements, then the EXR/PNG lightmaps and the lightmapped glb.
+    void write(const EmbreeScene& rays) {
+        const BakeSettings& s = result_.report.settings;
+        LightmapReport& lm = *result_.report.lightmap;
+        std::vector<std::vector<std::uint8_t>> insideGeometry;
+        for (const AtlasTexels& t : result_.texels)
+            insideGeometry.push_back(texelsInsideGeometry(scene_, rays, t, s.lightmap.invalidBackfaceFraction));
+        lm.surfaces = compareSurfaceMeans(scene_, result_.solved->mesh, result_.solved->solution, result_.texels,
+                                          result_.lightmaps, insideGeometry);
+        lm.texelsPerUnit = s.lightmap.texelsPerUnit;
+        lm.charts = result_.atlas.stats.charts;
+        for (std::size_t a = 0; a < result_.lightmaps.size(); ++a) {
+            const std::string rel = lightmapRelativePath(s.output.gltf, int(a));
+            if (!output_.dir.empty()) {
+                writeLightmapExr(output_.dir / rel, result_.lightmaps[a]);
+                writeLightmapPreviewPng((output_.dir / rel).replace_extension(".png"), result_.lightmaps[a]);
+            }
+            lm.files.push_back(rel);
+            lm.atlases.push_back({result_.lightmaps[a].size, result_.atlas.atlases[a].utilization});
+        }
+        if (!output_.dir.empty()) {
+            const std::string stem = std::filesystem::path(output_.scenePath).stem().string();
+            result_.report.primitives = writeLightmappedGlb(output_.scenePath, scene_, result_.atlas, result_.lightmaps,
+                                                            output_.dir / (stem + ".glb"), s.output.gltf);
+        }
+        stage("write");
+        done("lightmaps: " + std::to_string(result_.lightmaps.size()) + " atlas(es), " + std::to_string(lm.stats.texels) +
+             " texels, " + percent(lm.stats.renderedFraction()) + " rendered by hemicube, max seam step " +
+             percent(lm.seams.maxRelativeBefore) + " -> " + percent(lm.seams.maxRelativeAfter));
+    }
+
+    // A picture of the result from the scene's own camera: what the user would look at first.
+    void preview() {
+        const OutputSettings& s = result_.report.settings.output;
+        if (scene_.cameras.empty() || !s.preview || output_.dir.empty()) return;
+        update("preview render");
+        const Camera& camera = scene_.cameras.front();
+        const int height = imageHeightFor(camera, s.previewWidthPixels);
+        const RgbImage image = renderBakedScene(scene_, result_.atlas, result_.lightmaps, camera, s.previewWidthPixels, height,
+                                                result_.report.settings.solve.lighting.skyRadiance);
+        writeRgbExr(output_.dir / "preview.exr", image);
+        writeRadiancePreviewPng(output_.dir / "preview.png", image);
+        result_.report.preview = PreviewReport{camera.name, "preview.exr", "preview.png", image.width, image.height};
+        stage("preview");
+    }
+
+    const Scene& scene_;
+    const BakeOutput& output_;
+    const BakeProgress& progress_;
+    BakeResult result_;
+    Stopwatch total_, clock_;
+};
+
+}  // namespace
+
+BakeResult bakeScene(const Scene& scene, const BakeSettings& settings, const BakeOutput& output, const BakeProgress& progress) {
+    return Pipeline(scene, settings, output, progress).run();
+}
+
+}  // namespace hemibake

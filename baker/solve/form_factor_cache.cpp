@@ -1,0 +1,17 @@
+#include "baker/solve/form_factor_cache.h"
+
+namespace hemibake {
+
+bool FormFactorCache::store(std::uint32_t patch, FormFactorRow row) {
+    row.elements.shrink_to_fit();
+    row.formFactors.shrink_to_fit();
+    const std::size_t bytes = row.bytes();
+    std::size_t used = used_.load(std::memory_order_relaxed);
+    do {
+        if (used + bytes > budget_) return false;
+    } while (!used_.compare_exchange_weak(used, used + bytes, std::memory_order_relaxed));
+    rows_[patch] = std::make_unique<const FormFactorRow>(std::move(row));
+    return true;
+}
+
+}  // namespace hemibake

@@ -1,0 +1,77 @@
+#pragma once
+// Progressive refinement by shooting (Cohen, Chen, Wallace & Greenberg 1988): the patch with the most unshot
+// power renders an item-buffer hemicube and hands ρ_j·ΔB_i·F_ij·A_i/A_j to every element j it sees; what the
+// receivers reflect becomes their patches' unshot radiosity. With several worker threads, the top-k patches
+// render in parallel and their shots are applied in order (each shoots what it held when picked).
+#include <cstdint>
+#include <functional>
+#include <memory>
+
+#include <tbb/enumerable_thread_specific.h>
+
+#include "baker/solve/solve_settings.h"
+#include "baker/solve/convergence.h"
+#include "baker/solve/form_factor_cache.h"
+#include "baker/solve/radiosity_solution.h"
+#include "baker/solve/unshot_queue.h"
+#include "mesh/patches.h"
+
+namespace hemibake {
+
+class HemicubePool;
+
+// Power in W per channel, accumulated over the whole solve (for the energy balance check).
+struct ShootingLedger {
+    glm::dvec3 injectedW{0.0};       // emitted by surfaces + arriving directly from punctual lights and sky
+    glm::dvec3 escapedW{0.0};        // shot into hemicube pixels that saw nothing (lost to the sky)
+    glm::dvec3 backfaceW{0.0};       // shot onto the backs of single-sided surfaces (absorbed there)
+    std::uint64_t shots = 0;
+    std::uint64_t hemicubes = 0;     // rendered; > shots when proximity asked for several sample points
+    std::uint64_t cachedShots = 0;   // shots that reused their patch's cached form-factor row
+    std::size_t cacheBytes = 0;      // form-factor rows kept
+};
+
+class ProgressiveShooter {
+public:
+    ProgressiveShooter(const PatchMesh& mesh, RadiositySolution& solution, HemicubePool& pool,
+                       const SolverSettings& settings);
+    ~ProgressiveShooter();
+
+    // Emission: B = π·L_e on every emitting element, and (if `shoot`) its patch's unshot radiosity. Without
+    // `shoot` the emitters' direct light must arrive through injectIrradiance (EmissiveAreaLights).
+    void injectEmission(bool shoot = true);
+    // Irradiance arriving from outside the surface set (punctual lights, sky), W·m⁻² per element.
+    void injectIrradiance(const std::vector<glm::dvec3>& irradiance);
+
+    using Progress = std::function<void(const ConvergenceRecord&)>;
+    // Shoots until unshot power ≤ epsilon × injected power, or a time/shot limit. Returns the stop reason.
+    std::string run(ConvergenceHistory& history, const Progress& progress, double startSeconds);
+
+    const ShootingLedger& ledger() const { return ledger_; }
+    std::size_t formFactorCacheBytes() const { return cache_->bytesUsed(); }
+    double unshotPowerW() const { return queue_.totalPower(); }  // sum over channels
+    glm::dvec3 unshotPowerPerChannelW() const;
+    double exitancePowerW() const { return exitanceW_; }  // Σ B·A over elements, summed over channels
+    double maxReflectance() const { return maxReflectance_; }
+
+private:
+    struct Shot;
+    struct MergeScratch;
+    void addUnshot(std::uint32_t patch, const glm::dvec3& radiosity);
+    void renderShot(std::uint32_t patch, Shot& shot) const;
+    void renderRow(std::uint32_t patch, std::uint64_t seed, FormFactorRow& row) const;
+    void applyShot(const Shot& shot);
+
+    const PatchMesh& mesh_;
+    RadiositySolution& solution_;
+    HemicubePool& pool_;
+    SolverSettings settings_;
+    UnshotQueue queue_;
+    ShootingLedger ledger_;
+    double maxReflectance_ = 0.0;
+    double exitanceW_ = 0.0;  // kept up to date by every injection and shot
+    std::unique_ptr<tbb::enumerable_thread_specific<MergeScratch>> scratch_;
+    std::unique_ptr<FormFactorCache> cache_;
+};
+
+}  // namespace hemibake

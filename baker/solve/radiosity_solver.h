@@ -1,0 +1,47 @@
+#pragma once
+// The solve, start to finish: direct light from punctual lights and sky (Embree shadow rays), progressive
+// shooting to the bound, ambient correction, then gathering sweeps at the receivers.
+#include <functional>
+#include <string>
+
+#include "baker/solve/convergence.h"
+#include "baker/solve/radiosity_solution.h"
+#include "baker/solve/solve_settings.h"
+#include "mesh/patches.h"
+#include "mesh/scene.h"
+
+namespace hemibake {
+
+class EmbreeScene;
+class HemicubePool;
+
+struct SolveReport {
+    std::string stopReason;        // converged | max-shots | max-time | sweeps
+    std::uint64_t shots = 0;
+    std::uint64_t hemicubes = 0;   // shooting hemicubes + gathering hemicubes (rendered)
+    std::uint64_t cachedShots = 0; // shots that reused a cached form-factor row (no hemicube rendered)
+    std::size_t formFactorCacheBytes = 0;
+    int gatherSweeps = 0;
+    double directSeconds = 0.0, shootSeconds = 0.0, gatherSeconds = 0.0;
+    // Power ledger, W per channel.
+    glm::dvec3 emitterPowerW{0.0};   // π·L_e·A over emitting elements
+    glm::dvec3 directPowerW{0.0};    // arriving straight from punctual lights and the sky
+    glm::dvec3 escapedPowerW{0.0};   // shot into the sky
+    glm::dvec3 backfacePowerW{0.0};  // shot onto backs of single-sided surfaces (absorbed)
+    glm::dvec3 absorbedPowerW{0.0};  // Σ (1−ρ)·H·A over elements
+    glm::dvec3 unshotPowerW{0.0};    // still unshot when shooting stopped
+    double unshotFraction = 0.0;     // unshot / injected, summed over channels
+    double errorBound = 0.0;         // see ConvergenceRecord::errorBound
+    glm::dvec3 ambientRadiosity{0.0};
+    bool emittersByRays = false;     // emitters' direct light came from EmissiveAreaLights, not from shooting
+    ConvergenceHistory history;
+};
+
+using SolveProgress = std::function<void(const std::string& stage, const ConvergenceRecord&)>;
+
+// Solves `mesh` (subdivided from `scene`, with `pool` and `rays` built on them) into `solution`. Uses every core;
+// throws std::invalid_argument on bad settings.
+SolveReport solveRadiosity(const Scene& scene, const PatchMesh& mesh, const SolveSettings& settings, HemicubePool& pool,
+                           const EmbreeScene& rays, RadiositySolution& solution, const SolveProgress& progress = {});
+
+}  // namespace hemibake

@@ -1,0 +1,39 @@
+#include "baker/solve/solve_scene.h"
+
+#include "baker/solve/adaptive_refinement.h"
+#include "raster/hemicube_pool.h"
+
+namespace hemibake {
+
+SolvedScene::SolvedScene() = default;
+SolvedScene::~SolvedScene() = default;
+
+std::unique_ptr<SolvedScene> solveScene(const Scene& scene, const SolveSettings& settings, const EmbreeScene& rays,
+                                        const SolveProgress& progress) {
+    auto owned = std::make_unique<SolvedScene>();
+    SolvedScene& solved = *owned;
+    // Subdivides (with `request`'s refinement regions), trims to exposed areas and solves from scratch.
+    auto subdivideAndSolve = [&](const RefinementRequest* request) {
+        solved.pool.reset();
+        solved.mesh = subdivide(scene, settings.subdivision, request);
+        solved.exposedArea = applyExposedAreas(scene, rays, solved.mesh, settings.exposure);
+        solved.pool = std::make_unique<HemicubePool>(solved.mesh, settings.solver.hemicubeResolution);
+        solved.report = solveRadiosity(scene, solved.mesh, settings, *solved.pool, rays, solved.solution, progress);
+    };
+    subdivideAndSolve(nullptr);
+    solved.elementsBeforeRefinement = solved.mesh.elements.size();
+    // Regions accumulate over levels: each re-subdivision starts from the unrefined mesh.
+    RefinementRequest request;
+    for (int level = 1; level <= settings.adaptive.levels; ++level) {
+        const double target = settings.subdivision.elementSizeM / double(1 << level);
+        const RefinementRequest found =
+            findRadiosityDiscontinuities(solved.mesh, solved.solution, settings.adaptive.threshold, target);
+        if (found.regions.empty()) break;
+        request.regions.insert(request.regions.end(), found.regions.begin(), found.regions.end());
+        solved.refinementRegions = request.regions.size();
+        subdivideAndSolve(&request);
+    }
+    return owned;
+}
+
+}  // namespace hemibake

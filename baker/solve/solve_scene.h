@@ -1,0 +1,36 @@
+#pragma once
+// The solve stage's entry point: subdivide the scene, trim elements to their exposed area, solve, and refine
+// where radiosity steps (settings.adaptive). What later stages need of the solve is in SolvedScene.
+#include <memory>
+
+#include "baker/solve/exposed_area.h"
+#include "baker/solve/radiosity_solver.h"
+#include "baker/solve/solve_settings.h"
+#include "mesh/patches.h"
+
+namespace hemibake {
+
+class EmbreeScene;
+class HemicubePool;
+
+struct SolvedScene {
+    PatchMesh mesh;
+    RadiositySolution solution;
+    SolveReport report;
+    std::unique_ptr<HemicubePool> pool;  // bound to `mesh`: later stages (final gather) reuse it
+    std::size_t elementsBeforeRefinement = 0;
+    std::size_t refinementRegions = 0;
+    ExposedAreaReport exposedArea;  // of the final mesh
+    SolvedScene();
+    ~SolvedScene();
+    // Pinned: `pool` points at `mesh`, so moving it would leave the pool reading a moved-from mesh.
+    SolvedScene(const SolvedScene&) = delete;
+    SolvedScene& operator=(const SolvedScene&) = delete;
+};
+
+// Subdivide, solve, and (settings.adaptive.levels > 0) refine and solve again. `rays` must be of `scene`.
+// Throws std::invalid_argument on bad settings. Uses every core (oneTBB); not re-entrant per pool.
+std::unique_ptr<SolvedScene> solveScene(const Scene& scene, const SolveSettings& settings, const EmbreeScene& rays,
+                                        const SolveProgress& progress = {});
+
+}  // namespace hemibake

@@ -1,0 +1,23 @@
+#include "baker/solve/solve_settings.h"
+
+#include <stdexcept>
+
+namespace hemibake {
+
+const char* solverKindName(SolverKind kind) {
+    switch (kind) {
+        case SolverKind::Shoot: return "shoot";
+        case SolverKind::Gather: return "gather";
+        case SolverKind::Hybrid: return "hybrid";
+    }
+    return "?";
+}
+
+SolverKind parseSolverKind(const std::string& name) {
+    if (name == "shoot") return SolverKind::Shoot;
+    if (name == "gather") return SolverKind::Gather;
+    if (name == "hybrid") return SolverKind::Hybrid;
+    throw std::invalid_argument("unknown solver '" + name + "' (shoot, gather or hybrid)");
+}
+
+}  // namespace hemibake

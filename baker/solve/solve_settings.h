@@ -1,0 +1,76 @@
+#pragma once
+// The solve stage's knobs: subdivision into patches and elements, exposed-area trimming, the solver itself,
+// adaptive refinement, and the lighting it injects. Gathered in SolveSettings, which is all solveScene needs.
+#include <cmath>
+#include <cstdint>
+#include <string>
+
+#include "baker/direct/lighting_settings.h"
+#include "mesh/patches.h"
+
+namespace hemibake {
+
+enum class SolverKind {
+    Shoot,   // progressive refinement shooting only
+    Gather,  // Jacobi gathering sweeps only
+    Hybrid,  // shoot to the bound, then gather sweeps at the receivers (default)
+};
+const char* solverKindName(SolverKind kind);
+SolverKind parseSolverKind(const std::string& name);  // throws std::invalid_argument
+
+struct SolverSettings {
+    SolverKind kind = SolverKind::Hybrid;
+    int hemicubeResolution = 128;       // R: front face R×R pixels, four R×R/2 side faces (presets 32–256)
+    double epsilon = 1e-3;              // stop when unshot power ≤ epsilon × injected power (presets 1e-2–1e-4)
+    double maxTimeSeconds = 0.0;        // 0 = no limit
+    std::uint64_t maxShots = 0;         // 0 = no limit
+    int gatherSweeps = 1;               // Hybrid: gathering sweeps after shooting (presets: 0, the texel gather is final)
+    int maxGatherSweeps = 200;          // Gather: sweeps at most (it stops earlier at the epsilon bound)
+    bool ambientCorrection = true;      // add Cohen et al. 1988's ambient term for what is still unshot
+    // A patch re-shoots from one hemicube per element when something is nearer than this × the patch's size
+    // (GROUND_TRUTH §3.4: one centred hemicube is 4.8 % low for hinged squares, 16 points 0.01 %).
+    double proximityFactor = 2.0;
+    // Form-factor rows kept for patches that shoot again (0 = render every shot). Rows cost ≈ 8 bytes per
+    // element a patch sees.
+    double formFactorCacheMiB = 1024.0;
+    int threads = 0;                    // 0 = all cores
+    std::uint64_t seed = 1;             // hemicube rotations and sampling
+};
+
+// Model only what the scene requires: after a first solve, elements whose radiosity differs from an edge
+// neighbour's by more than `threshold` (relative) are bisected down to elementSize / 2^levels, and the scene is
+// solved again. Smooth regions stay coarse; unlit ones never shoot.
+struct AdaptiveSettings {
+    int levels = 0;           // 0 = off (ultra: 1)
+    double threshold = 0.2;   // |B_a − B_b| > threshold × max(B_a, B_b) (+ a small floor relative to the mean)
+};
+
+// Elements partly under other geometry keep only their exposed part (baker/solve/exposed_area.h).
+struct ExposedAreaSettings {
+    // k: k² points per element; a straight cut through the element misassigns at most (2k − 1)/k² of its area
+    // (the sub-triangles it crosses), and much less on average as their errors take both signs.
+    int samplesPerSide = 16;
+    // Screening (0 = off): an element is sampled with the k² points only when one of its screenSamplesPerSide²
+    // points, or of a neighbour's (sharing a vertex), sees any back face at all; the rest (most elements) are
+    // open. A cover that falls between the screening points of an element and all its neighbours (smaller than
+    // about 1/screenSamplesPerSide of an element) is missed.
+    int screenSamplesPerSide = 4;
+    int rayStrata = 8;                     // cosine-weighted rays per point: rayStrata², as the texel criterion
+    int screenRayStrata = 4;               // per screening point (it looks for any back face at all)
+    double coveredBackfaceFraction = 0.9;  // see above
+    int horizonRays = 16;                  // the ring just above the surface
+    double horizonElevationRad = 10.0 * M_PI / 180.0;
+    // An element with nothing exposed keeps this fraction of its triangle: a positive area, so that whatever
+    // stray power reaches it (a hemicube pixel through a contact line) divides by something.
+    double minFraction = 1e-3;
+};
+
+struct SolveSettings {
+    SubdivisionSettings subdivision;
+    ExposedAreaSettings exposure;
+    SolverSettings solver;
+    AdaptiveSettings adaptive;
+    LightingSettings lighting;
+};
+
+}  // namespace hemibake
