@@ -29,7 +29,7 @@ for scene, label in (("cornell_box", "published reflectances"), ("cornell_rho095
     c = j["convergence"]
     print(f"## {label}\n")
     print(f"{j['counts']['patches']} patches, {j['counts']['elements']} elements; stopped: {c['stopReason']} after "
-          f"{c['shots']} shots ({c['hemicubes']} hemicubes), {j['timings']['shoot']:.1f} s shooting.\n")
+          f"{c['shots']} shots ({c['hemicubes']} hemicubes), {c['seconds']['shoot']:.1f} s shooting.\n")
     print("| shots | seconds | unshot fraction | error bound |\n|---|---|---|---|")
     import math
     seen = set()

@@ -12,13 +12,13 @@
 #include <nlohmann/json.hpp>
 #include <tbb/global_control.h>
 
-#include "baker/util/atomic_output.h"
-#include "baker/pipeline/bake_layout.h"
-#include "baker/rays/embree_scene.h"
 #include "baker/output/exr_io.h"
 #include "baker/output/png_preview.h"
-#include "baker/reference/progressive_reference.h"
 #include "baker/output/radiance_preview.h"
+#include "baker/pipeline/bake_layout.h"
+#include "baker/rays/embree_scene.h"
+#include "baker/reference/progressive_reference.h"
+#include "baker/util/atomic_output.h"
 #include "baker/util/rgb_image.h"
 #include "cli/camera_options.h"
 #include "cli/command.h"

@@ -7,10 +7,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "baker/pipeline/bake_layout.h"
 #include "baker/output/baked_scene_view.h"
 #include "baker/output/exr_io.h"
 #include "baker/output/radiance_preview.h"
+#include "baker/pipeline/bake_layout.h"
 #include "baker/util/rgb_image.h"
 #include "cli/camera_options.h"
 #include "cli/command.h"

@@ -144,4 +144,18 @@ std::vector<std::uint32_t> readAccessorIndices(const tinygltf::Model& model, int
     return out;
 }
 
+std::vector<std::array<std::uint32_t, 3>> assembleTriangles(int mode, const std::vector<std::uint32_t>& idx) {
+    std::vector<std::array<std::uint32_t, 3>> tris;
+    if (mode == TINYGLTF_MODE_TRIANGLES) {
+        for (std::size_t i = 0; i + 2 < idx.size(); i += 3) tris.push_back({idx[i], idx[i + 1], idx[i + 2]});
+    } else if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
+        for (std::size_t i = 0; i + 2 < idx.size(); ++i)
+            tris.push_back(i % 2 == 0 ? std::array<std::uint32_t, 3>{idx[i], idx[i + 1], idx[i + 2]}
+                                      : std::array<std::uint32_t, 3>{idx[i + 1], idx[i], idx[i + 2]});
+    } else if (mode == TINYGLTF_MODE_TRIANGLE_FAN) {
+        for (std::size_t i = 1; i + 1 < idx.size(); ++i) tris.push_back({idx[0], idx[i], idx[i + 1]});
+    }
+    return tris;
+}
+
 }  // namespace hemibake

@@ -1,6 +1,7 @@
 #pragma once
 // Bounds-checked reads of glTF accessors. tinygltf parses the JSON but does not check that an accessor's
 // range fits its buffer view and buffer; these functions do, so hostile files fail with a message, not a crash.
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -19,5 +20,9 @@ std::vector<double> readAccessorFloats(const tinygltf::Model& model, int accesso
 // Reads an index accessor (u8/u16/u32 scalars).
 std::vector<std::uint32_t> readAccessorIndices(const tinygltf::Model& model, int accessorIndex, const std::string& path,
                                                const std::string& what);
+
+// A primitive's triangles from its indices and glTF mode (triangles, strip, fan; other modes give none). Every
+// other strip triangle is reversed to keep one winding. SurfaceMesh::sourceFace indexes this list.
+std::vector<std::array<std::uint32_t, 3>> assembleTriangles(int mode, const std::vector<std::uint32_t>& indices);
 
 }  // namespace hemibake

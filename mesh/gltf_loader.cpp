@@ -246,21 +246,6 @@ private:
         scene_.lights.push_back(l);
     }
 
-    static std::vector<std::array<std::uint32_t, 3>> assembleTriangles(int mode, const std::vector<std::uint32_t>& idx) {
-        std::vector<std::array<std::uint32_t, 3>> tris;
-        if (mode == TINYGLTF_MODE_TRIANGLES) {
-            for (std::size_t i = 0; i + 2 < idx.size(); i += 3) tris.push_back({idx[i], idx[i + 1], idx[i + 2]});
-        } else if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
-            // Every other triangle of a strip is reversed to keep one winding.
-            for (std::size_t i = 0; i + 2 < idx.size(); ++i)
-                tris.push_back(i % 2 == 0 ? std::array<std::uint32_t, 3>{idx[i], idx[i + 1], idx[i + 2]}
-                                          : std::array<std::uint32_t, 3>{idx[i + 1], idx[i], idx[i + 2]});
-        } else if (mode == TINYGLTF_MODE_TRIANGLE_FAN) {
-            for (std::size_t i = 1; i + 1 < idx.size(); ++i) tris.push_back({idx[0], idx[i], idx[i + 1]});
-        }
-        return tris;
-    }
-
     void readPrimitive(int nodeIndex, int meshIndex, int primIndex, const glm::dmat4& world) {
         const tinygltf::Primitive& prim = model_.meshes[std::size_t(meshIndex)].primitives[std::size_t(primIndex)];
         const std::string where = "mesh " + std::to_string(meshIndex) + " primitive " + std::to_string(primIndex);

@@ -9,9 +9,9 @@
 #include <optional>
 #include <stdexcept>
 
+#include "baker/output/exr_io.h"
 #include "baker/pipeline/bake_layout.h"
 #include "baker/rays/embree_scene.h"
-#include "baker/output/exr_io.h"
 #include "baker/rays/inside_geometry.h"
 #include "baker/util/rgb_image.h"
 #include "mesh/errors.h"

@@ -5,9 +5,9 @@
 #include <cstdio>
 #include <sstream>
 
-#include "baker/util/atomic_output.h"
 #include "baker/compare/false_color.h"
 #include "baker/output/png_preview.h"
+#include "baker/util/atomic_output.h"
 
 namespace hemibake {
 

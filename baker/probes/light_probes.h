@@ -11,8 +11,8 @@
 
 #include <glm/glm.hpp>
 
-#include "baker/solve/radiosity_solution.h"
 #include "baker/probes/spherical_harmonics.h"
+#include "baker/solve/radiosity_solution.h"
 #include "mesh/patches.h"
 #include "raster/cube_map_renderer.h"
 

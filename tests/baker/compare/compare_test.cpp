@@ -9,11 +9,11 @@
 #include <fstream>
 #include <thread>
 
-#include "baker/pipeline/bake_layout.h"
 #include "baker/compare/compare.h"
-#include "baker/output/exr_io.h"
 #include "baker/compare/false_color.h"
 #include "baker/compare/html_report.h"
+#include "baker/output/exr_io.h"
+#include "baker/pipeline/bake_layout.h"
 #include "baker/reference/progressive_reference.h"
 #include "mesh/errors.h"
 #include "mesh/gltf_loader.h"
@@ -232,7 +232,7 @@ FakeBake writeBake(const fs::path& dir, const std::string& scenePath,
     }
     const nlohmann::json report = {{"format", "hemibake-bake/1"},
                                    {"scene", scenePath},
-                                   {"settings", {{"skyRadiance", {0.0, 0.0, 0.0}}}},
+                                   {"settings", {{"skyRadiance", {0.0, 0.0, 0.0}}, {"texelsPerUnit", texelsPerUnit}}},
                                    {"lightmap", {{"texelsPerUnit", texelsPerUnit}, {"files", files}}},
                                    {"primitives", primitives}};
     std::ofstream(dir / "bake.json") << report.dump(2);

@@ -5,9 +5,9 @@
 #include <cmath>
 #include <cstdio>
 
-#include "baker/solve/solve_scene.h"
 #include "baker/rays/embree_scene.h"
 #include "baker/solve/exposed_area.h"
+#include "baker/solve/solve_scene.h"
 #include "mesh/scene_builder.h"
 #include "mesh/subdivision.h"
 #include "raster/hemicube_pool.h"
@@ -320,4 +320,37 @@ TEST(ExposedArea, PartlyCoveredElementsReceiveTheIrradianceOfTheirExposedPart) {
     const glm::dvec3 in = r.emitterPowerW + r.directPowerW;
     const glm::dvec3 out = r.absorbedPowerW + r.escapedPowerW + r.backfacePowerW + r.unshotPowerW;
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(out[c], in[c], 1e-6 * in[c]) << "channel " << c;
+}
+
+// Issue 14: sky light is sampled at the exposed centroid, so it already is the exposed part's mean; dividing it by
+// the exposed fraction (as the area averages of the other terms are) overstated it under shelves and crates. Black
+// surfaces under a uniform sky: nothing reflects, a 2 mm slab hides almost nothing, so every floor element, partly
+// covered or not, sees E/π just below L_sky and never above it.
+TEST(ExposedArea, PartlyCoveredElementsSeeTheSkyOfTheirExposedPart) {
+    SceneBuilder b("slab on a floor under the sky");
+    const int black = b.addMaterial(glm::vec3(0.0f));
+    b.addQuad({-1, 0, -1}, {-1, 0, 1}, {1, 0, 1}, {1, 0, -1}, black, "floor");
+    addBlock(b, {-0.37, 0.0, -0.29}, {0.41, 0.002, 0.33}, black, "slab");
+    const Scene scene = b.build();
+    SolveSettings settings;
+    settings.subdivision = {0.5, 0.25, 0.5};
+    settings.solver.kind = SolverKind::Shoot;
+    settings.solver.hemicubeResolution = 64;
+    settings.lighting.skyRadiance = glm::vec3(1.0f);
+    const EmbreeScene rays(scene);
+    const std::unique_ptr<SolvedScene> solved = solveScene(scene, settings, rays);
+    const ElementArrays& el = solved->mesh.elements;
+    const PatchMesh full = subdivide(scene, settings.subdivision);
+    ASSERT_EQ(full.elements.size(), el.size());
+    std::size_t partial = 0;
+    for (std::size_t e = 0; e < el.size(); ++e) {
+        if (el.instance[e] != 0) continue;
+        const double fraction = el.areaM2[e] / full.elements.areaM2[e];
+        if (!(fraction >= 0.25)) continue;
+        partial += fraction < 1.0;
+        const double eOverPi = solved->solution.displayIrradiance(e).x / M_PI;
+        EXPECT_LE(eOverPi, 1.0 + 1e-9) << "element " << e << ", exposed fraction " << fraction;
+        EXPECT_GE(eOverPi, 0.95) << "element " << e << ", exposed fraction " << fraction;
+    }
+    EXPECT_GT(partial, 3u);
 }
