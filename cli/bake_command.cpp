@@ -136,8 +136,9 @@ CommandRunner addBakeCommand(CLI::App& app) {
     cmd->add_option("--solver", o->solver,
                     "shoot: progressive refinement only; gather: Jacobi sweeps only; hybrid: shoot, then gather at receivers")
         ->check(CLI::IsMember({"shoot", "gather", "hybrid"}));
-    cmd->add_option("--epsilon", o->epsilon, "Stop shooting when unshot power <= epsilon × injected power (gather: when the "
-                                             "error bound <= epsilon)")->check(CLI::Range(0.0, 1.0));
+    cmd->add_option("--epsilon", o->epsilon, "Stop shooting when, at every element, the light still to arrive is <= epsilon "
+                                             "× what it has (gather: when the error bound <= epsilon)")
+        ->check(CLI::Range(0.0, 1.0));
     cmd->add_option("--max-time", o->maxTime, "Stop shooting after this many seconds (0 = no limit)")->check(CLI::NonNegativeNumber);
     cmd->add_option("--max-shots", o->maxShots, "Stop shooting after this many shots (0 = no limit)");
     cmd->add_option("--gather-sweeps", o->gatherSweeps, "Gathering sweeps after shooting (hybrid) or at most (gather)")
@@ -164,7 +165,8 @@ CommandRunner addBakeCommand(CLI::App& app) {
     cmd->add_option("--adaptive-threshold", o->adaptiveThreshold,
                     "Relative radiosity difference between neighbouring elements that triggers refinement")
         ->check(CLI::Range(0.0, 10.0));
-    cmd->add_flag("--no-ambient", o->noAmbient, "Do not add the ambient term for still-unshot light (Cohen et al. 1988)");
+    cmd->add_flag("--no-ambient", o->noAmbient, "Do not add the ambient term for still-unshot light (its next bounce, where "
+                                                "it will arrive, and the bounces after it)");
     cmd->add_option("--sky", o->sky, "Uniform sky radiance R,G,B in W·m⁻²·sr⁻¹ seen where rays escape")->delimiter(',')->expected(3);
     cmd->add_option("--sun-diameter", o->sunDiameterDeg, "Angular diameter of directional lights in degrees (0.53 = the sun; "
                                                          "0 = hard shadows)")->check(CLI::Range(0.0, 30.0));

@@ -2,17 +2,18 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <tbb/parallel_for.h>
 
 #include "baker/direct/direct_light.h"
-#include "baker/lightmap/element_interpolation.h"
 #include "baker/direct/emissive_area_lights.h"
+#include "baker/lightmap/element_interpolation.h"
 #include "baker/rays/embree_scene.h"
 #include "baker/solve/gatherer.h"
 #include "baker/solve/solve_scene.h"
-#include "raster/hemicube_pool.h"
 #include "baker/util/colour.h"
+#include "raster/hemicube_pool.h"
 
 namespace hemibake {
 
@@ -46,10 +47,10 @@ using GatherFn = std::function<void(const std::vector<std::uint32_t>&, std::vect
 // the diagonal corners). `gather` renders a list of texels.
 class AdaptivePlacer {
 public:
-    AdaptivePlacer(const AtlasTexels& texels, const LightmapSettings& settings, double texelSizeM, const GatherFn& gather,
-                   const std::vector<glm::dvec3>& direct, LightmapStats& stats)
-        : t_(texels), grid_(texels), settings_(settings), texelSizeM_(texelSizeM), gather_(gather), direct_(direct),
-          stats_(stats), done_(texels.count(), 0) {
+    AdaptivePlacer(const AtlasTexels& texels, const LightmapSettings& settings, double texelSizeM, const EmbreeScene& rays,
+                   const GatherFn& gather, const std::vector<glm::dvec3>& direct, LightmapStats& stats)
+        : t_(texels), grid_(texels), settings_(settings), texelSizeM_(texelSizeM), rays_(rays), gather_(gather),
+          direct_(direct), stats_(stats), done_(texels.count(), 0) {
         while (coarse_ * 2 <= std::max(settings.latticeStep, 1)) coarse_ *= 2;
     }
 
@@ -71,11 +72,12 @@ public:
 
 private:
     enum class Phase { Lattice, EdgeMidpoints, CellCentres };
-    // What interpolation would give at a texel, and the curvature it drops there.
+    // What interpolation would give at a texel, the curvature it drops there, and the spread of the neighbours it
+    // used (a step between two neighbours has no curvature at all, only spread).
     struct Estimate {
         bool ok = false;
         glm::dvec3 value{0.0};
-        double curvature = 0.0, scale = 0.0;
+        double curvature = 0.0, spread = 0.0, scale = 0.0;
     };
 
     // Interpolates texel i when its neighbours at this step agree, else queues it for a hemicube.
@@ -92,7 +94,10 @@ private:
         // The tolerance is relative to what the texel will hold: the gathered light plus the direct light added
         // by rays afterwards (a faint bounce beside a bright direct term needs no hemicube).
         if (!direct_.empty()) e.scale += channelSum(direct_[i]);
-        if (e.ok && e.curvature <= settings_.interpolationTolerance * (e.scale + floor_)) {
+        // Interpolating across a step of contrast Δ errs by up to Δ/2 at the texel: a spread of up to twice the
+        // tolerance keeps that error within it.
+        const double allowed = settings_.interpolationTolerance * (e.scale + floor_);
+        if (e.ok && e.curvature <= allowed && e.spread <= 2.0 * allowed) {
             (*value_)[i] = glm::max(e.value, glm::dvec3(0.0));
             done_[i] = 1;
             ++stats_.interpolated;
@@ -101,14 +106,31 @@ private:
         }
     }
 
-    // The value of a finished, valid neighbour on the same piece of surface, if there is one.
+    // The value of a finished, valid neighbour on the same piece of surface and in sight of the texel (a wall
+    // standing on the surface between them hides one from the other), if there is one.
     bool neighbour(std::size_t i, int dx, int dy, int step, glm::dvec3& v) const {
         const double reach = 1.5 * std::sqrt(2.0) * step * texelSizeM_;  // world distance of a lattice neighbour
         const std::int32_t j = grid_.find(t_.x[i] + dx, t_.y[i] + dy);
-        if (j < 0 || !done_[std::size_t(j)] || (*invalid_)[std::size_t(j)] || !continuous(t_, i, std::size_t(j), 3.0 * reach))
+        if (j < 0 || !done_[std::size_t(j)] || (*invalid_)[std::size_t(j)] || !continuous(t_, i, std::size_t(j), 3.0 * reach) ||
+            !inSight(i, std::size_t(j)))
             return false;
         v = (*value_)[std::size_t(j)];
         return true;
+    }
+
+    bool inSight(std::size_t i, std::size_t j) const {
+        const glm::dvec3 from = rays_.offsetFromSurface(t_.position[i], glm::dvec3(t_.normal[i]));
+        const glm::dvec3 to = rays_.offsetFromSurface(t_.position[j], glm::dvec3(t_.normal[j]));
+        return !rays_.occluded(from, to, EmbreeScene::RayEnds::Lifted);
+    }
+
+    static double spreadOf(std::initializer_list<glm::dvec3> values) {
+        double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+        for (const glm::dvec3& v : values) {
+            lo = std::min(lo, channelSum(v));
+            hi = std::max(hi, channelSum(v));
+        }
+        return hi - lo;
     }
 
     // Interpolate only where the light is locally smooth, and then to second order: a linear average of a curved
@@ -121,6 +143,7 @@ private:
         if (!neighbour(i, -ux, -uy, step, b) || !neighbour(i, ux, uy, step, c)) return e;
         e.ok = true;
         e.scale = std::max(channelSum(b), channelSum(c));
+        e.spread = spreadOf({b, c});
         if (neighbour(i, -3 * ux, -3 * uy, step, a) && neighbour(i, 3 * ux, 3 * uy, step, d)) {
             e.value = (9.0 * (b + c) - a - d) / 16.0;
             e.curvature = std::abs(channelSum(-a + b + c - d)) / 16.0;  // |cubic − linear| at the midpoint
@@ -142,6 +165,7 @@ private:
         e.ok = true;
         const glm::dvec3 diagonal = 0.25 * (c00 + c10 + c01 + c11);
         e.scale = std::max({channelSum(c00), channelSum(c10), channelSum(c01), channelSum(c11)});
+        e.spread = spreadOf({c00, c10, c01, c11});
         e.curvature = std::abs(channelSum(c00 + c11 - c10 - c01)) / 2.0;  // the twist term
         e.value = diagonal;
         if (neighbour(i, -step, 0, step, l) && neighbour(i, step, 0, step, r) && neighbour(i, 0, -step, step, u) &&
@@ -149,6 +173,7 @@ private:
             const glm::dvec3 axis = 0.25 * (l + r + u + dn);
             e.value = 2.0 * axis - diagonal;
             e.curvature = std::max(e.curvature, std::abs(channelSum(axis - diagonal)));
+            e.spread = std::max(e.spread, spreadOf({l, r, u, dn}));
         }
         return e;
     }
@@ -175,6 +200,7 @@ private:
     const TexelGrid grid_;
     const LightmapSettings& settings_;
     const double texelSizeM_;
+    const EmbreeScene& rays_;
     const GatherFn& gather_;
     const std::vector<glm::dvec3>& direct_;
     LightmapStats& stats_;
@@ -258,7 +284,7 @@ public:
         : scene_(scene), settings_(settings), solve_(solve),
           // Ray-traced direct light at every texel: punctual lights, and emitters when the solver ray traced them
           // (same decision, same inputs); the gather then sees emitters without their emission.
-          areaLights_(makeEmissiveAreaLights(solved.mesh, rays, solve.lighting)),
+          rays_(rays), areaLights_(makeEmissiveAreaLights(solved.mesh, rays, solve.lighting)),
           gatherer_(*solved.pool, solve.solver.seed ^ 0x5EEDull),
           interpolator_(solved.mesh, displayIrradiance(solved)) {
         if (!scene.lights.empty() || areaLights_) {
@@ -292,7 +318,7 @@ public:
         }
         std::vector<glm::dvec3> value;
         std::vector<std::uint8_t> invalid;
-        AdaptivePlacer(t, settings_, texelSizeM, gather, directValue, stats).run(value, invalid, advanced);
+        AdaptivePlacer(t, settings_, texelSizeM, rays_, gather, directValue, stats).run(value, invalid, advanced);
         stats.invalid += std::size_t(std::count(invalid.begin(), invalid.end(), 1));
         refillInvalid(t, texelSizeM, value, invalid);
         for (std::size_t i = 0; i < directValue.size(); ++i) value[i] += directValue[i];
@@ -333,6 +359,7 @@ private:
     const Scene& scene_;
     const LightmapSettings& settings_;
     const SolveSettings& solve_;
+    const EmbreeScene& rays_;
     std::unique_ptr<EmissiveAreaLights> areaLights_;
     std::unique_ptr<DirectLight> direct_;
     Gatherer gatherer_;

@@ -6,8 +6,8 @@
 #include <functional>
 #include <vector>
 
-#include "baker/lightmap/lightmap_settings.h"
 #include "baker/lightmap/lightmap.h"
+#include "baker/lightmap/lightmap_settings.h"
 #include "baker/solve/radiosity_solution.h"
 #include "baker/solve/solve_settings.h"
 #include "mesh/patches.h"

@@ -26,7 +26,10 @@ nlohmann::json convergenceJson(const SolveReport& solve) {
             {"gatherSweeps", solve.gatherSweeps},
             {"unshotFraction", solve.unshotFraction},
             {"errorBound", solve.errorBound},
-            {"ambientRadiosity", vec(solve.ambientRadiosity)},
+            {"localBound", {{"max", solve.localBoundMax}, {"p95", solve.localBoundP95}, {"median", solve.localBoundMedian}}},
+            {"ambient", {{"meanIrradianceW", vec(solve.ambientIrradianceMeanW)},
+                         {"elementsReached", solve.ambientElements},
+                         {"unknownPatches", solve.ambientUnknownPatches}}},
             // The solve's own stages, inside timings.solve.
             {"seconds", {{"direct", solve.directSeconds}, {"shoot", solve.shootSeconds}, {"gather", solve.gatherSeconds}}},
             {"history", history}};

@@ -2,7 +2,7 @@
 
 namespace hemibake {
 
-bool FormFactorCache::store(std::uint32_t patch, FormFactorRow row) {
+bool FormFactorCache::store(std::uint32_t patch, FormFactorRow& row) {
     row.elements.shrink_to_fit();
     row.formFactors.shrink_to_fit();
     const std::size_t bytes = row.bytes();

@@ -30,8 +30,9 @@ public:
 
     // Safe to call concurrently for different patches (each slot is touched by the thread shooting that patch).
     const FormFactorRow* find(std::uint32_t patch) const { return rows_[patch].get(); }
-    // Keeps the row if it fits the budget; returns whether it did.
-    bool store(std::uint32_t patch, FormFactorRow row);
+    // Moves `row` into the cache when it fits the budget and returns true; otherwise returns false and leaves `row`
+    // as it was (the caller shoots with it). Thread-safe for different patches.
+    bool store(std::uint32_t patch, FormFactorRow& row);
 
     std::size_t bytesUsed() const { return used_.load(std::memory_order_relaxed); }
     std::uint64_t hits() const { return hits_.load(std::memory_order_relaxed); }

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <functional>
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
@@ -91,7 +93,7 @@ void ProgressiveShooter::renderShot(std::uint32_t patch, Shot& shot) const {
     }
     renderRow(patch, shot.seed, shot.own);
     shot.hemicubesRendered = shot.own.hemicubes;
-    shot.row = cache_->store(patch, std::move(shot.own)) ? cache_->find(patch) : &shot.own;
+    shot.row = cache_->store(patch, shot.own) ? cache_->find(patch) : &shot.own;
 }
 
 void ProgressiveShooter::renderRow(std::uint32_t patch, std::uint64_t seed, FormFactorRow& row) const {
@@ -180,13 +182,124 @@ glm::dvec3 ProgressiveShooter::unshotPowerPerChannelW() const {
     return sum;
 }
 
+std::vector<glm::dvec3> ProgressiveShooter::pendingIrradiance(std::size_t* unknownPatches) const {
+    const ElementArrays& el = mesh_.elements;
+    const PatchArrays& pa = mesh_.patches;
+    std::vector<glm::dvec3> pending(el.size(), glm::dvec3(0.0));
+    std::size_t unknown = 0;
+    for (std::uint32_t p = 0; p < pa.size(); ++p) {
+        const glm::dvec3& deltaB = solution_.unshotRadiosity[p];
+        if (!(channelSum(deltaB) > 0.0)) continue;
+        const FormFactorRow* row = cache_->find(p);
+        if (!row) {
+            ++unknown;
+            continue;
+        }
+        for (std::size_t k = 0; k < row->elements.size(); ++k) {
+            const std::uint32_t e = row->elements[k];
+            pending[e] += deltaB * (double(row->formFactors[k]) * pa.areaM2[p] / el.areaM2[e]);
+        }
+    }
+    if (unknownPatches) *unknownPatches = unknown;
+    return pending;
+}
+
+ProgressiveShooter::LocalBound ProgressiveShooter::localBound(double epsilon) const {
+    const ElementArrays& el = mesh_.elements;
+    const PatchArrays& pa = mesh_.patches;
+    LocalBound bound;
+    const std::vector<glm::dvec3> pendingW = pendingIrradiance(&bound.unknownPatches);
+    std::vector<double> pending(el.size(), 0.0);
+    for (std::size_t e = 0; e < el.size(); ++e) pending[e] = channelSum(pendingW[e]);
+    std::vector<std::uint32_t> unshot;
+    for (std::uint32_t p = 0; p < pa.size(); ++p)
+        if (channelSum(solution_.unshotRadiosity[p]) > 0.0) unshot.push_back(p);
+    // Relative to what the element has, with the bounces still to come; 0/0 (nothing has arrived and nothing
+    // will) is converged, x/0 is not.
+    const double bounces = 1.0 / std::max(1.0 - maxReflectance_, 1e-12);
+    std::vector<double> relative(el.size(), 0.0);
+    for (std::size_t e = 0; e < el.size(); ++e) {
+        if (!(pending[e] > 0.0)) continue;
+        const double have = channelSum(solution_.irradiance[e]);
+        relative[e] = have > 0.0 ? bounces * pending[e] / have : std::numeric_limits<double>::infinity();
+    }
+    std::vector<std::uint32_t> order(el.size());
+    for (std::uint32_t e = 0; e < order.size(); ++e) order[e] = e;
+    std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return relative[a] < relative[b]; });
+    double totalArea = 0.0;
+    for (double a : el.areaM2) totalArea += a;
+    double area = 0.0;
+    for (std::uint32_t e : order) {
+        area += el.areaM2[e];
+        if (bound.median == 0.0 && area >= 0.5 * totalArea) bound.median = relative[e];
+        if (bound.p95 == 0.0 && area >= 0.95 * totalArea) bound.p95 = relative[e];
+    }
+    bound.max = order.empty() ? 0.0 : relative[order.back()];
+    if (bound.unknownPatches > 0) bound.max = std::numeric_limits<double>::infinity();
+    if (bound.max <= epsilon) return bound;
+
+    // Each unshot patch's own share of the bound where it is largest; unknown rows first.
+    std::vector<std::pair<double, std::uint32_t>> share;
+    for (std::uint32_t p : unshot) {
+        const FormFactorRow* row = cache_->find(p);
+        double worst = std::numeric_limits<double>::infinity();
+        if (row) {
+            worst = 0.0;
+            const double deltaB = channelSum(solution_.unshotRadiosity[p]);
+            for (std::size_t k = 0; k < row->elements.size(); ++k) {
+                const std::uint32_t e = row->elements[k];
+                if (!(relative[e] > epsilon)) continue;
+                const double have = channelSum(solution_.irradiance[e]);
+                const double mine = deltaB * double(row->formFactors[k]) * pa.areaM2[p] / el.areaM2[e];
+                worst = std::max(worst, have > 0.0 ? bounces * mine / have : std::numeric_limits<double>::infinity());
+            }
+        }
+        if (worst > 0.0) share.emplace_back(worst, p);
+    }
+    std::sort(share.begin(), share.end(), std::greater<>());
+    // Shoot every patch that alone holds a good part of the worst excess (at least the top one), so that each
+    // round makes progress without shooting the whole scene again.
+    const double cut = share.empty() ? 0.0 : std::min(0.125 * epsilon, 0.5 * share.front().first);
+    for (const auto& [worst, p] : share)
+        if (worst >= cut || bound.worstPatches.empty()) bound.worstPatches.push_back(p);
+    return bound;
+}
+
+void ProgressiveShooter::shoot(const std::vector<std::uint32_t>& patches, std::vector<Shot>& shots, std::uint64_t& shotSeed) {
+    for (std::size_t begin = 0; begin < patches.size(); begin += shots.size()) {
+        const std::size_t count = std::min(shots.size(), patches.size() - begin);
+        std::size_t picked = 0;
+        for (std::size_t k = 0; k < count; ++k) {
+            const std::uint32_t p = patches[begin + k];
+            if (settings_.maxShots && ledger_.shots + picked >= settings_.maxShots) {
+                // The shot limit: the patches not shot keep their place in the queue.
+                for (std::size_t rest = begin + k; rest < patches.size(); ++rest) {
+                    const std::uint32_t q = patches[rest];
+                    queue_.set(q, channelSum(solution_.unshotRadiosity[q]) * mesh_.patches.areaM2[q]);
+                }
+                break;
+            }
+            if (!(channelSum(solution_.unshotRadiosity[p]) > 0.0)) continue;
+            shots[picked].patch = p;
+            shots[picked].deltaRadiosity = solution_.unshotRadiosity[p];
+            shots[picked].seed = ++shotSeed;
+            solution_.unshotRadiosity[p] = glm::dvec3(0.0);
+            queue_.set(p, 0.0);
+            ++picked;
+        }
+        tbb::parallel_for(std::size_t(0), picked, [&](std::size_t i) { renderShot(shots[i].patch, shots[i]); },
+                          tbb::simple_partitioner());
+        for (std::size_t i = 0; i < picked; ++i) applyShot(shots[i]);
+        if (picked < count) return;  // the shot limit
+    }
+}
+
 std::string ProgressiveShooter::run(ConvergenceHistory& history, const Progress& progress, double startSeconds) {
     const Stopwatch clock;
     const double injected = channelSum(ledger_.injectedW);
     const std::size_t batch = std::max<std::size_t>(1, tbb::this_task_arena::max_concurrency());
     std::vector<Shot> shots(batch);
     std::uint64_t shotSeed = settings_.seed * 0x9E3779B97F4A7C15ull;
-    std::string reason;
 
     auto record = [&](bool force) {
         const double seconds = startSeconds + clock.seconds();
@@ -199,31 +312,34 @@ std::string ProgressiveShooter::run(ConvergenceHistory& history, const Progress&
         history.add(r);
         if (progress) progress(r);
     };
+    auto limit = [&]() -> const char* {
+        if (settings_.maxShots && ledger_.shots >= settings_.maxShots) return "max-shots";
+        if (settings_.maxTimeSeconds > 0.0 && startSeconds + clock.seconds() >= settings_.maxTimeSeconds) return "max-time";
+        return nullptr;
+    };
     record(true);
-
-    while (true) {
-        if (!(injected > 0.0) || queue_.totalPower() <= settings_.epsilon * injected) { reason = "converged"; break; }
-        if (settings_.maxShots && ledger_.shots >= settings_.maxShots) { reason = "max-shots"; break; }
-        if (settings_.maxTimeSeconds > 0.0 && startSeconds + clock.seconds() >= settings_.maxTimeSeconds) { reason = "max-time"; break; }
-
-        // Pick the top patches; each shoots what it holds now (later gains stay unshot for a later turn).
-        std::size_t picked = 0;
-        for (; picked < batch; ++picked) {
-            if (queue_.maxPower() <= 0.0) break;
-            if (settings_.maxShots && ledger_.shots + picked >= settings_.maxShots) break;
-            const auto p = std::uint32_t(queue_.argmax());
-            shots[picked].patch = p;
-            shots[picked].deltaRadiosity = solution_.unshotRadiosity[p];
-            shots[picked].seed = ++shotSeed;
-            solution_.unshotRadiosity[p] = glm::dvec3(0.0);
-            queue_.set(p, 0.0);
+    std::string reason;
+    // The bulk: the largest unshot power first, while it is a sizeable part of what came in.
+    while (reason.empty()) {
+        if (!(injected > 0.0) || queue_.totalPower() <= settings_.epsilon * injected || queue_.maxPower() <= 0.0) break;
+        if (const char* l = limit()) { reason = l; break; }
+        std::vector<std::uint32_t> top;
+        for (std::size_t k = 0; k < batch && queue_.maxPower() > 0.0; ++k) {
+            top.push_back(std::uint32_t(queue_.argmax()));
+            queue_.set(top.back(), 0.0);  // taken; shoot() reads the patch's unshot radiosity
         }
-        if (picked == 0) { reason = "converged"; break; }
-        tbb::parallel_for(std::size_t(0), picked, [&](std::size_t i) { renderShot(shots[i].patch, shots[i]); },
-                          tbb::simple_partitioner());
-        for (std::size_t i = 0; i < picked; ++i) applyShot(shots[i]);
+        shoot(top, shots, shotSeed);
         record(false);
     }
+    // Then locally: the patches whose unshot light is still a sizeable part of what some element has.
+    while (reason.empty()) {
+        finalBound_ = localBound(settings_.epsilon);
+        if (finalBound_.max <= settings_.epsilon) { reason = "converged"; break; }
+        if (const char* l = limit()) { reason = l; break; }
+        shoot(finalBound_.worstPatches, shots, shotSeed);
+        record(false);
+    }
+    if (reason != "converged") finalBound_ = localBound(settings_.epsilon);
     record(true);
     return reason;
 }

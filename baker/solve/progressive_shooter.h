@@ -6,13 +6,15 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <string>
+#include <vector>
 
 #include <tbb/enumerable_thread_specific.h>
 
-#include "baker/solve/solve_settings.h"
 #include "baker/solve/convergence.h"
 #include "baker/solve/form_factor_cache.h"
 #include "baker/solve/radiosity_solution.h"
+#include "baker/solve/solve_settings.h"
 #include "baker/solve/unshot_queue.h"
 #include "mesh/patches.h"
 
@@ -43,9 +45,25 @@ public:
     // Irradiance arriving from outside the surface set (punctual lights, sky), W·m⁻² per element.
     void injectIrradiance(const std::vector<glm::dvec3>& irradiance);
 
+    // The local error bound: per element e, the irradiance still to arrive at it, H_pending(e) = Σ_p ΔB_p·F_pe·A_p/A_e
+    // over the unshot patches (first bounce, through their cached form-factor rows), over (1 − ρ_max)·H(e), its
+    // irradiance so far. A patch with unshot radiosity and no row yet could reach anything: it must shoot.
+    struct LocalBound {
+        double max = 0.0, p95 = 0.0, median = 0.0;  // over elements, area-weighted
+        std::size_t unknownPatches = 0;              // unshot patches without a row
+        std::vector<std::uint32_t> worstPatches;     // what to shoot next: its own share of the worst bound first
+    };
+    LocalBound localBound(double epsilon) const;
+
     using Progress = std::function<void(const ConvergenceRecord&)>;
-    // Shoots until unshot power ≤ epsilon × injected power, or a time/shot limit. Returns the stop reason.
+    // Shoots the largest unshot power until it is ≤ epsilon × injected power, then the patches that decide the
+    // local bound until every element's is ≤ epsilon (a sunlit exterior does not decide when a dark corridor
+    // stops), or a time/shot limit. Returns the stop reason.
     std::string run(ConvergenceHistory& history, const Progress& progress, double startSeconds);
+    // Per element, the irradiance the unshot patches with a cached row will deliver when they next shoot, W·m⁻²
+    // (no rendering). `unknownPatches` counts unshot patches without a row (their light is not in it).
+    std::vector<glm::dvec3> pendingIrradiance(std::size_t* unknownPatches = nullptr) const;
+    const LocalBound& finalLocalBound() const { return finalBound_; }
 
     const ShootingLedger& ledger() const { return ledger_; }
     std::size_t formFactorCacheBytes() const { return cache_->bytesUsed(); }
@@ -61,6 +79,8 @@ private:
     void renderShot(std::uint32_t patch, Shot& shot) const;
     void renderRow(std::uint32_t patch, std::uint64_t seed, FormFactorRow& row) const;
     void applyShot(const Shot& shot);
+    // Renders (in parallel) and applies the shots of `patches`, each with what it holds now.
+    void shoot(const std::vector<std::uint32_t>& patches, std::vector<Shot>& shots, std::uint64_t& shotSeed);
 
     const PatchMesh& mesh_;
     RadiositySolution& solution_;
@@ -70,6 +90,7 @@ private:
     ShootingLedger ledger_;
     double maxReflectance_ = 0.0;
     double exitanceW_ = 0.0;  // kept up to date by every injection and shot
+    LocalBound finalBound_;
     std::unique_ptr<tbb::enumerable_thread_specific<MergeScratch>> scratch_;
     std::unique_ptr<FormFactorCache> cache_;
 };

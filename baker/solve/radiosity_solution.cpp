@@ -7,7 +7,7 @@ void RadiositySolution::resize(const PatchMesh& mesh) {
     irradiance.assign(mesh.elements.size(), glm::dvec3(0.0));
     rayTracedIrradiance.assign(mesh.elements.size(), glm::dvec3(0.0));
     unshotRadiosity.assign(mesh.patches.size(), glm::dvec3(0.0));
-    ambientRadiosity = glm::dvec3(0.0);
+    ambientIrradiance.clear();
 }
 
 }  // namespace hemibake

@@ -20,15 +20,20 @@ struct RadiositySolution {
     // Per patch: radiosity received but not yet shot, W·m⁻² (area-weighted over its elements).
     std::vector<glm::dvec3> unshotRadiosity;
 
-    // Ambient term (Cohen et al. 1988): the radiosity that the unshot power will still add, spread
-    // uniformly; zero once converged or when disabled.
-    glm::dvec3 ambientRadiosity{0.0};
+    // Ambient term, per element (empty: none): the irradiance the still-unshot power will add, estimated from
+    // where it goes next (its first bounce through the shooters' form-factor rows) with the bounces after it at
+    // the mean reflectance of what it reaches. Cohen et al. 1988 spread it uniformly; here a room the unshot
+    // light cannot see gets none.
+    std::vector<glm::dvec3> ambientIrradiance;
 
     void resize(const PatchMesh& mesh);
+    glm::dvec3 ambient(std::size_t element) const {
+        return ambientIrradiance.empty() ? glm::dvec3(0.0) : ambientIrradiance[element];
+    }
     // Irradiance including the ambient estimate: what the lightmap stores (as H/π) mid-solve.
-    glm::dvec3 displayIrradiance(std::size_t element) const { return irradiance[element] + ambientRadiosity; }
+    glm::dvec3 displayIrradiance(std::size_t element) const { return irradiance[element] + ambient(element); }
     glm::dvec3 displayRadiosity(const PatchMesh& mesh, std::size_t element) const {
-        return radiosity[element] + glm::dvec3(mesh.elements.reflectance[element]) * ambientRadiosity;
+        return radiosity[element] + glm::dvec3(mesh.elements.reflectance[element]) * ambient(element);
     }
     // Outgoing radiance (B/π, W·m⁻²·sr⁻¹) a gathering hemicube shows for the element. Without emission when the
     // emitters' direct light reaches receivers by rays (EmissiveAreaLights): the gather must not count it twice.

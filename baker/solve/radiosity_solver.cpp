@@ -55,16 +55,16 @@ InjectedLight injectDirectLight(const Scene& scene, const PatchMesh& mesh, const
     }
     std::vector<glm::dvec3> sky = elementsSkyIrradianceOverPi(rays, mesh, lighting.skyRadiance, lighting.skySamplesPerElement,
                                                               settings.solver.seed);
-    // Ray-traced averages run over the whole triangle, and its covered points (under a block) see nothing; an
-    // element trimmed to its exposed part (baker/solve/exposed_area.h) wants the mean over that part. Elements
-    // almost wholly covered are left alone: nobody sees them, and 1/fraction would amplify any stray ray.
+    // Ray-traced averages of lights and emitters run over the whole triangle, and its covered points (under a
+    // block) see nothing; an element trimmed to its exposed part (baker/solve/exposed_area.h) wants the mean over
+    // that part. The sky is sampled at the exposed centroid alone, so it already is that mean. Elements almost
+    // wholly covered are left alone: nobody sees them, and 1/fraction would amplify any stray ray.
     for (std::size_t e = 0; e < el.size(); ++e) {
         const double whole = triangleArea(el, e);
         const double fraction = whole > 0.0 ? el.areaM2[e] / whole : 1.0;
         if (!(fraction < 1.0) || fraction < 0.01) continue;
         light.rayTraced[e] /= fraction;
         light.fromEmitters[e] /= fraction;
-        sky[e] /= fraction;
     }
     light.injected.assign(el.size(), glm::dvec3(0.0));
     for (std::size_t e = 0; e < el.size(); ++e) {
@@ -76,18 +76,28 @@ InjectedLight injectDirectLight(const Scene& scene, const PatchMesh& mesh, const
     return light;
 }
 
-// Cohen et al. 1988: what is unshot will arrive, after bounces at the mean reflectance, spread evenly.
-glm::dvec3 ambientRadiosity(const PatchMesh& mesh, const glm::dvec3& unshotPowerW) {
+// The ambient term where the unshot light goes (Cohen et al. 1988 spread it over every surface): its next bounce
+// exactly, through the shooters' cached rows, and the bounces after it at the mean reflectance of the elements it
+// reaches. An element the unshot light cannot see (a sealed room) gets none; unshot patches without a row are
+// left out (where their light would go is not known).
+std::vector<glm::dvec3> ambientIrradiance(const PatchMesh& mesh, std::vector<glm::dvec3> pending, SolveReport& report) {
     const ElementArrays& el = mesh.elements;
     glm::dvec3 areaRho(0.0);
-    double area = 0.0;
+    double area = 0.0, totalArea = 0.0;
     for (std::size_t e = 0; e < el.size(); ++e) {
+        totalArea += el.areaM2[e];
+        if (!(channelSum(pending[e]) > 0.0)) continue;
         areaRho += glm::dvec3(el.reflectance[e]) * el.areaM2[e];
         area += el.areaM2[e];
+        ++report.ambientElements;
     }
-    if (!(area > 0.0)) return glm::dvec3(0.0);
-    const glm::dvec3 meanRho = areaRho / area;
-    return unshotPowerW / (area * glm::max(glm::dvec3(1.0) - meanRho, glm::dvec3(1e-12)));
+    if (!(area > 0.0)) return {};
+    const glm::dvec3 bounces = 1.0 / glm::max(glm::dvec3(1.0) - areaRho / area, glm::dvec3(1e-12));
+    for (std::size_t e = 0; e < el.size(); ++e) {
+        pending[e] *= bounces;
+        report.ambientIrradianceMeanW += pending[e] * (el.areaM2[e] / totalArea);
+    }
+    return pending;
 }
 
 // Progressive shooting to the bound; fills the report's shooting figures and power ledger.
@@ -116,7 +126,16 @@ void shootToBound(const PatchMesh& mesh, const SolveSettings& settings, Hemicube
     const double injectedSum = channelSum(ledger.injectedW);
     report.unshotFraction = injectedSum > 0.0 ? shooter.unshotPowerW() / injectedSum : 0.0;
     report.errorBound = exitanceErrorBound(shooter.unshotPowerW(), shooter.exitancePowerW(), shooter.maxReflectance());
-    if (settings.solver.ambientCorrection) solution.ambientRadiosity = ambientRadiosity(mesh, report.unshotPowerW);
+    const ProgressiveShooter::LocalBound& bound = shooter.finalLocalBound();
+    report.localBoundMax = bound.max;
+    report.localBoundP95 = bound.p95;
+    report.localBoundMedian = bound.median;
+    if (settings.solver.ambientCorrection) {
+        std::size_t unknown = 0;
+        std::vector<glm::dvec3> pending = shooter.pendingIrradiance(&unknown);
+        report.ambientUnknownPatches = unknown;
+        solution.ambientIrradiance = ambientIrradiance(mesh, std::move(pending), report);
+    }
 }
 
 // Jacobi gathering sweeps from the current solution. Stops after `maxSweeps`, or earlier once the a-posteriori
@@ -147,7 +166,7 @@ void gatherSweeps(const PatchMesh& mesh, const SolveSettings& settings, Hemicube
             solution.irradiance[e] = irradiance;
             solution.radiosity[e] = b;
         }
-        solution.ambientRadiosity = glm::dvec3(0.0);  // the gather has taken it in
+        solution.ambientIrradiance.clear();  // the gather has taken it in
         report.hemicubes += points.size();
         ++report.gatherSweeps;
         ConvergenceRecord r;
@@ -185,7 +204,6 @@ SolveReport solveRadiosity(const Scene& scene, const PatchMesh& mesh, const Solv
             solution.radiosity[e] = M_PI * glm::dvec3(el.emittedRadiance[e]) + glm::dvec3(el.reflectance[e]) * light.rayTraced[e];
         }
     }
-    report.ambientRadiosity = solution.ambientRadiosity;
 
     const double t1 = clock.seconds();
     if (kind == SolverKind::Gather)

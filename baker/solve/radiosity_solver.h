@@ -32,7 +32,11 @@ struct SolveReport {
     glm::dvec3 unshotPowerW{0.0};    // still unshot when shooting stopped
     double unshotFraction = 0.0;     // unshot / injected, summed over channels
     double errorBound = 0.0;         // see ConvergenceRecord::errorBound
-    glm::dvec3 ambientRadiosity{0.0};
+    // The local bound (ProgressiveShooter::LocalBound) when shooting stopped: area-weighted over elements.
+    double localBoundMax = 0.0, localBoundP95 = 0.0, localBoundMedian = 0.0;
+    glm::dvec3 ambientIrradianceMeanW{0.0};  // area-weighted over all elements
+    std::size_t ambientElements = 0;         // elements the unshot light reaches (the others get no ambient)
+    std::size_t ambientUnknownPatches = 0;   // unshot patches without a row: their light is in no ambient
     bool emittersByRays = false;     // emitters' direct light came from EmissiveAreaLights, not from shooting
     ConvergenceHistory history;
 };

@@ -21,12 +21,15 @@ SolverKind parseSolverKind(const std::string& name);  // throws std::invalid_arg
 struct SolverSettings {
     SolverKind kind = SolverKind::Hybrid;
     int hemicubeResolution = 128;       // R: front face R×R pixels, four R×R/2 side faces (presets 32–256)
-    double epsilon = 1e-3;              // stop when unshot power ≤ epsilon × injected power (presets 1e-2–1e-4)
+    // Stop when, at every element, the irradiance still to arrive (the unshot light's next bounce, with the
+    // bounces after it) is ≤ epsilon × what it has (presets 1e-2–1e-4); the bulk is shot first by power, down to
+    // epsilon × injected power.
+    double epsilon = 1e-3;
     double maxTimeSeconds = 0.0;        // 0 = no limit
     std::uint64_t maxShots = 0;         // 0 = no limit
     int gatherSweeps = 1;               // Hybrid: gathering sweeps after shooting (presets: 0, the texel gather is final)
     int maxGatherSweeps = 200;          // Gather: sweeps at most (it stops earlier at the epsilon bound)
-    bool ambientCorrection = true;      // add Cohen et al. 1988's ambient term for what is still unshot
+    bool ambientCorrection = true;      // add the ambient term for what is still unshot, where it will arrive
     // A patch re-shoots from one hemicube per element when something is nearer than this × the patch's size
     // (GROUND_TRUTH §3.4: one centred hemicube is 4.8 % low for hinged squares, 16 points 0.01 %).
     double proximityFactor = 2.0;

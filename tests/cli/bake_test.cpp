@@ -1,4 +1,5 @@
 // `hemibake bake` as users call it: the bake.json contract, convergence history, exit codes, no partial output.
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 
@@ -13,9 +14,11 @@ using hemibake::test::TempDir;
 TEST(CliBake, CornellWritesReportWithConvergenceHistory) {
     TempDir dir;
     const std::string out = dir.file("out");
+    const auto started = std::chrono::steady_clock::now();
     const auto r = runHemibake({"bake", hemibake::test::sharedScene("cornell_box.gltf"), "-o", out, "--preset", "draft",
                                 "--hemicube-res", "32", "--epsilon", "0.02", "--solver", "shoot", "--progress",
                                 "--emitters", "hemicube"});  // emitters shoot: the history starts at all power unshot
+    const double processSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     ASSERT_EQ(r.exitCode, 0) << r.err;
     EXPECT_NE(r.err.find("solved: converged"), std::string::npos) << r.err;  // progress was reported
     std::ifstream in(out + "/bake.json");
@@ -40,7 +43,18 @@ TEST(CliBake, CornellWritesReportWithConvergenceHistory) {
                             j["power"]["backfaceW"][c].get<double>() + j["power"]["unshotW"][c].get<double>();
         EXPECT_NEAR(out_, in_, 1e-6 * in_) << "channel " << c;
     }
-    for (const char* stage : {"load", "solve", "shoot", "lightmaps", "write", "total"}) EXPECT_TRUE(j["timings"].contains(stage)) << stage;
+    for (const char* stage : {"load", "setup", "solve", "unwrap", "lightmaps", "write", "total"})
+        EXPECT_TRUE(j["timings"].contains(stage)) << stage;
+    // Stages do not overlap and total is the wall time: the stages add up to at most the total, which the process's
+    // own wall time (measured here, from outside) bounds. The solve's breakdown lives beside its history.
+    double stages = 0.0;
+    for (const auto& [stage, seconds] : j["timings"].items())
+        if (stage != "total") stages += seconds.get<double>();
+    EXPECT_LE(stages, j["timings"]["total"].get<double>() + 1e-3);
+    EXPECT_LE(j["timings"]["total"].get<double>(), processSeconds);
+    const auto& solveSeconds = j["convergence"]["seconds"];
+    EXPECT_LE(solveSeconds["direct"].get<double>() + solveSeconds["shoot"].get<double>() + solveSeconds["gather"].get<double>(),
+              j["timings"]["solve"].get<double>() + 1e-3);
     EXPECT_GT(j["peakMemoryMiB"].get<double>(), 0.0);
 }
 

@@ -2,11 +2,11 @@
 // E/π = L_e·F(point → emitter), F from Lambert's contour formula, at every texel.
 #include <gtest/gtest.h>
 
-#include "baker/solve/solve_scene.h"
-#include "baker/rays/embree_scene.h"
 #include "baker/lightmap/lightmap_baker.h"
-#include "baker/pipeline/bake_settings.h"
 #include "baker/lightmap/lightmap_seams.h"
+#include "baker/pipeline/bake_settings.h"
+#include "baker/rays/embree_scene.h"
+#include "baker/solve/solve_scene.h"
 #include "mesh/scene_builder.h"
 #include "raster/hemicube_pool.h"
 
@@ -100,6 +100,60 @@ TEST(LightmapBaker, EmitterOverSquareWithRayTracedEmitterIsExact) {
 }
 
 
+
+// Issue 14: adaptive placement could not see a step. One black floor (one chart) runs under a thin wall: on one
+// side a closed room whose every other face emits L (so its floor sees L everywhere: E/π = L exactly), on the
+// other side the open dark. The midpoint test |−a+b+c−d|/16 is 0 for a step between b and c, and texels on either
+// side of the wall are one continuous surface by position and normal: texels beyond the wall were interpolated
+// from lit ones. Emitters shoot through hemicubes here, so the step is in the gathered light itself.
+TEST(LightmapBaker, NoTexelIsInterpolatedAcrossAWallStandingOnItsSurface) {
+    SceneBuilder b("wall on a floor");
+    const float le = 2.0f;
+    const int black = b.addMaterial(glm::vec3(0.0f), glm::vec3(0.0f), false, "black");
+    const int lamp = b.addMaterial(glm::vec3(0.0f), glm::vec3(le), false, "lamp");
+    const double wallLo = 0.51, wallHi = 0.53;
+    b.addQuad({0, 0, 0}, {0, 0, 1}, {1, 0, 1}, {1, 0, 0}, black, "floor");
+    b.addQuad({0, 0, 0}, {0, 1, 0}, {0, 1, 1}, {0, 0, 1}, lamp, "room -x");                        // faces +x
+    b.addQuad({0, 0, 0}, {wallLo, 0, 0}, {wallLo, 1, 0}, {0, 1, 0}, lamp, "room -z");              // faces +z
+    b.addQuad({0, 0, 1}, {0, 1, 1}, {wallLo, 1, 1}, {wallLo, 0, 1}, lamp, "room +z");              // faces -z
+    b.addQuad({0, 1, 0}, {wallLo, 1, 0}, {wallLo, 1, 1}, {0, 1, 1}, lamp, "room ceiling");         // faces -y
+    b.addQuad({wallLo, 0, 0}, {wallLo, 0, 1}, {wallLo, 1, 1}, {wallLo, 1, 0}, lamp, "wall, room side");  // faces -x
+    b.addQuad({wallHi, 0, -0.5}, {wallHi, 1, -0.5}, {wallHi, 1, 1.5}, {wallHi, 0, 1.5}, black, "wall, dark side");
+    const Scene scene = b.build();
+
+    BakeSettings settings;
+    settings.solve.subdivision = {0.5, 0.5, 0.5};  // black surfaces: the solve only has to carry L_e
+    settings.solve.solver.hemicubeResolution = 64;
+    settings.solve.solver.gatherSweeps = 0;
+    settings.solve.lighting.emitters = EmitterLighting::Hemicube;
+    settings.lightmap.texelsPerUnit = 32;
+    const EmbreeScene rays(scene);
+    const std::unique_ptr<SolvedScene> solved = solveScene(scene, settings.solve, rays);
+    UnwrapSettings unwrap;
+    unwrap.texelsPerUnit = settings.lightmap.texelsPerUnit;
+    const UvAtlas atlas = unwrapScene(scene, unwrap);
+    const std::vector<AtlasTexels> texels = computeTexels(scene, atlas);
+    LightmapStats stats;
+    const std::vector<LightmapImage> images =
+        bakeLightmaps(scene, *solved, atlas, texels, rays, settings.lightmap, settings.solve, stats);
+    double litWorst = 0.0, darkMax = 0.0;
+    std::size_t lit = 0, dark = 0;
+    for (std::size_t a = 0; a < texels.size(); ++a)
+        for (std::size_t i = 0; i < texels[a].count(); ++i) {
+            if (texels[a].instance[i] != 0) continue;  // the floor
+            const double x = texels[a].position[i].x;
+            const double v = images[a].irradianceOverPi[images[a].index(texels[a].x[i], texels[a].y[i])].x;
+            if (x < wallLo - 0.02) litWorst = std::max(litWorst, std::abs(v / le - 1.0)), ++lit;
+            if (x > wallHi + 0.02) darkMax = std::max(darkMax, v), ++dark;
+        }
+    ASSERT_GT(lit, 100u);
+    ASSERT_GT(dark, 100u);
+    std::printf("lit worst |E/pi / L - 1| %.2e, dark max %.3g, rendered %.1f%%\n", litWorst, darkMax,
+                100.0 * stats.renderedFraction());
+    EXPECT_LT(litWorst, 0.01);
+    EXPECT_EQ(darkMax, 0.0);
+    EXPECT_LT(stats.renderedFraction(), 0.6);  // smooth light on either side is still interpolated
+}
 
 TEST(LightmapBaker, DilationFillsOnlyPaddingNextToCharts) {
     LightmapImage image;
