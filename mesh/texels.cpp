@@ -58,6 +58,7 @@ std::vector<AtlasTexels> computeTexels(const Scene& scene, const UvAtlas& atlas,
     for (std::size_t c = 0; c < atlas.charts.size(); ++c)
         chartsOfAtlas[std::size_t(atlas.charts[c].atlas)].push_back(std::uint32_t(c));
 
+    const double sceneSizeM = std::max(scene.bounds().diagonal(), 1e-300);
     std::vector<Sample> samples;
     std::vector<std::int32_t> local;
     for (std::size_t a = 0; a < atlas.atlases.size(); ++a) {
@@ -145,10 +146,10 @@ std::vector<AtlasTexels> computeTexels(const Scene& scene, const UvAtlas& atlas,
             const double len = glm::length(cr);
             const glm::dvec3 nrm = len > 0.0 ? cr / len : glm::dvec3(0.0);
             const glm::dvec3 pos = bary.x * P[0] + bary.y * P[1] + bary.z * P[2];
-            const double scale = 1.0 + std::max({std::abs(pos.x), std::abs(pos.y), std::abs(pos.z)});
+
             at.x.push_back(std::uint16_t(s.texel % std::uint64_t(S)));
             at.y.push_back(std::uint16_t(s.texel / std::uint64_t(S)));
-            at.position.push_back(pos + nrm * (settings.normalOffsetRelative * scale));
+            at.position.push_back(pos + nrm * (settings.normalOffsetRelative * sceneSizeM));
             at.normal.push_back(glm::vec3(nrm));
             at.instance.push_back(s.instance);
             at.face.push_back(ui.faceSource[s.triangle]);

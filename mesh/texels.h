@@ -12,9 +12,11 @@
 // (the side counter-clockwise winding faces).
 //
 // The position is then nudged off the surface along that normal by
-//     offset = normalOffsetRelative × (1 + max(|x|, |y|, |z|))   metres
-// (default 1e-5: 10 µm near the origin, 1 mm 100 m away — well above float ray-tracer precision there and far
-// below any texel). Moving samples out of nearby intersecting geometry is the baker's job, not this one.
+//     offset = normalOffsetRelative × the scene's bounding-box diagonal   metres
+// (default 1e-5: 10 µm for a 1 m scene, 1 mm for a 100 m level). Relative to the scene's size, never to the
+// distance from the origin: the ray tracer and the rasterizer work relative to the scene's centre, so a level 1e6 m
+// out needs no larger offset, and an offset of 1e-5 × |position| pushed its samples metres off their surfaces
+// (and a 0.5 mm scene's by 2 % of its size). Moving samples out of nearby intersecting geometry is the baker's job.
 #include <cstdint>
 #include <vector>
 
@@ -25,7 +27,7 @@
 namespace hemibake {
 
 struct TexelSettings {
-    double normalOffsetRelative = 1e-5;
+    double normalOffsetRelative = 1e-5;  // × the scene diagonal
     double coverageShrinkTexels = kCoverageShrinkTexels;
     double borderInsetTexels = 0.25;  // texels whose centre is outside the chart sample this far inside it
 };
