@@ -34,6 +34,9 @@ BakeLayout loadBakeLayout(const std::filesystem::path& outDir) {
     layout.scene = loadGltf(scenePath);
 
     const nlohmann::json& lm = r["lightmap"];
+    // Bakes from before every knob was in "settings" kept the density in the lightmap section only.
+    if (!(layout.settings.lightmap.texelsPerUnit > 0.0) && lm.contains("texelsPerUnit") && lm["texelsPerUnit"].is_number())
+        layout.settings.lightmap.texelsPerUnit = lm["texelsPerUnit"].get<double>();
     if (!(layout.settings.lightmap.texelsPerUnit > 0.0))
         throw InputError(reportPath.string(), "settings.texelsPerUnit is not a positive density");
     layout.atlas = unwrapScene(layout.scene, unwrapSettingsFor(layout.settings.lightmap));

@@ -96,9 +96,12 @@ TEST(IrradianceVolume, ThinWallDoesNotLeak) {
             std::printf("dark side x=%.2f n=(%g,%g,%g): naive %.4f, visibility-aware %.5f, ratio %.4f\n", x, n.x, n.y, n.z,
                         leaky, aware.irradianceOverPi.x, ratio);
             // Known limit (docs/probes.md): a surface facing the wall from closer than ~1/10 of the spacing has
-            // the occluded lit probes in front and the dark ones behind it; its residual leak is printed, not
-            // asserted.
-            if (x < 0.1 && n.x < 0.0) continue;
+            // the occluded lit probes in front and the dark ones behind it; it keeps at most 10 % of the naive leak
+            // (8.7 % measured), not the 5 % of the rest.
+            if (x < 0.1 && n.x < 0.0) {
+                EXPECT_LT(ratio, 0.1) << "x " << x << ", facing the wall";
+                continue;
+            }
             worstRatio = std::max(worstRatio, ratio);
             EXPECT_LT(ratio, 0.05) << "x " << x;
         }

@@ -95,7 +95,9 @@ TEST(LightProbe, SkyOverBlackGroundGivesOnePlusCosOverTwo) {
         const double exact = (1.0 + std::cos(theta * kPi / 180.0)) / 2.0;
         std::printf("sky plane theta %5.1f: E/pi / L_sky = %.5f, exact %.5f, rel err %+.2e\n", theta, e.x / sky.x, exact,
                     e.x / sky.x / exact - 1.0);
-        for (int c = 0; c < 3; ++c) EXPECT_NEAR(e[c], sky[c] * exact, 0.02 * sky[c] * exact) << "theta " << theta;
+        // The sky over a plane is band-limited in E (L1 exact); only the cube map's texel integration is left
+        // (measured ≤ 1.9e-4).
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(e[c], sky[c] * exact, 1e-3 * sky[c] * exact) << "theta " << theta;
     }
 }
 

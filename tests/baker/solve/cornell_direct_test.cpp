@@ -85,7 +85,9 @@ TEST(CornellDirect, ReceiverHemicubesMatchTable) {
             const double got = eOverPi[i].x;
             std::printf("R=%d %-26s E/pi %.6f expected %.6f (%+.2f%%; table F %.6f, oracle F %.6f)\n", resolution,
                         kPoints[i].name, got, expected, 100.0 * (got / expected - 1.0), kPoints[i].formFactor, oracle[i]);
-            EXPECT_NEAR(got, expected, 0.03 * expected) << kPoints[i].name;  // issue 4: within 3 %
+            // §3.6 at N = 256: a source a few times farther than it is wide sits between the square d = 2 and
+            // d = 10 rows (max 1e-2 … 0.12); measured ≤ 1.0 % at these points with this seed.
+            EXPECT_NEAR(got, expected, 0.015 * expected) << kPoints[i].name;
             EXPECT_NEAR(eOverPi[i].y / eOverPi[i].x, 12.0 / 17.0, 1e-5);  // colour is the light's
         }
     }
