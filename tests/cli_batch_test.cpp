@@ -200,6 +200,7 @@ TEST(CliBatch, InterruptLeavesNoPartialOutputAndResumes) {
     EXPECT_NE(err.str().find("interrupted"), std::string::npos) << err.str();
 
     EXPECT_TRUE(fs::exists(dir.path() / "out/quick/bake.json"));
+    EXPECT_GLBS_VALID(dir.path() / "out/quick");
     EXPECT_FALSE(fs::exists(dir.path() / "out/level")) << "partial output left behind";
     EXPECT_FALSE(hasStagingLeft(dir.path()));
     auto scenes = byName(readJson(dir.file("batch.json")));

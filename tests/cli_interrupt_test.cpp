@@ -143,4 +143,5 @@ TEST(CliBakeInterrupted, TemporariesOfRunningProcessesStay) {
     EXPECT_TRUE(after.count("notes.tmp-1-x"));
     EXPECT_TRUE(after.count(".tmp-x-1"));
     EXPECT_TRUE(after.count("bake.json"));
+    EXPECT_GLBS_VALID(out);
 }
