@@ -8,6 +8,7 @@
 #include <new>
 
 #include "cli/command.h"
+#include "cli/stale_temporaries.h"
 #include "mesh/errors.h"
 
 int main(int argc, char** argv) {
@@ -45,7 +46,11 @@ int main(int argc, char** argv) {
     }
     try {
         for (CLI::App* sub : app.get_subcommands())
-            if (auto it = runners.find(sub); it != runners.end()) return it->second();
+            if (auto it = runners.find(sub); it != runners.end()) {
+                // What a killed earlier run into the same output left (cli/stale_temporaries.h), before writing.
+                hemibake::cli::removeStaleTemporaries(*sub);
+                return it->second();
+            }
         return 2;
     } catch (const hemibake::InputError& e) {
         std::cerr << "hemibake: " << e.what() << "\n";

@@ -1,6 +1,7 @@
 #pragma once
 // Bounds-checked reads of glTF accessors. tinygltf parses the JSON but does not check that an accessor's
 // range fits its buffer view and buffer; these functions do, so hostile files fail with a message, not a crash.
+// Sparse accessors are read: the base view (or zeros) with the sparse values substituted.
 #include <array>
 #include <cstdint>
 #include <string>

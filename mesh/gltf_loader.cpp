@@ -2,18 +2,23 @@
 
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <functional>
 #include <map>
+#include <optional>
+#include <sstream>
 
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
 #include <OpenMesh/Core/System/omstream.hh>
+#include <nlohmann/json.hpp>
 #include <tiny_gltf.h>
 
 #include "mesh/errors.h"
 #include "mesh/gltf_accessor.h"
+#include "mesh/gltf_data_uri.h"
 
 namespace hemibake {
 
@@ -21,7 +26,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// tinygltf's messages span lines and repeat the file name; keep the first meaningful line.
+// tinygltf's messages span lines, repeat the file name and quote whole data URIs; keep the first meaningful line,
+// without URI payloads, and never more than a few hundred characters.
 std::string firstLine(const std::string& text) {
     std::string line;
     for (char c : text) {
@@ -31,8 +37,19 @@ std::string firstLine(const std::string& text) {
         }
         line += c;
     }
-    return line.empty() ? "could not be parsed as glTF" : line;
+    if (line.empty()) return "could not be parsed as glTF";
+    line = elideDataUris(line);
+    constexpr std::size_t kMaxLength = 300;
+    if (line.size() > kMaxLength) line = line.substr(0, kMaxLength) + "…";
+    return line;
 }
+
+// World coordinates are metres; no bakeable scene reaches this far from the origin (16 Earth radii: Earth-centred
+// georeferenced tiles, ~6.4e6 m out, still load). Beyond it lies a unit or scale error, and sizes derived from the
+// scene (texels, patches) would exhaust memory instead of failing with a message.
+constexpr double kMaxWorldCoordinateM = 1e8;
+// Nodes whose transforms collapse triangles are each named in a warning up to this many; the rest are summed up.
+constexpr std::size_t kMaxCollapseWarnings = 8;
 
 float srgbToLinear(float c) {
     return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
@@ -56,6 +73,21 @@ bool allFinite(const glm::dmat4& m) {
     return true;
 }
 
+// The matrix that carries normals through `m`: the inverse transpose, or for a singular `m` (which has none) the
+// cofactor matrix, its limit up to scale (a quad flattened along its own normal keeps that normal).
+glm::dmat3 normalMatrixFor(const glm::dmat3& m) {
+    const glm::dmat3 cofactor(glm::cross(m[1], m[2]), glm::cross(m[2], m[0]), glm::cross(m[0], m[1]));
+    const double det = glm::dot(m[0], cofactor[0]);
+    if (det != 0.0) {
+        const glm::dmat3 n = glm::transpose(glm::inverse(m));
+        bool finite = true;
+        for (int c = 0; c < 3; ++c) finite = finite && std::isfinite(n[c].x + n[c].y + n[c].z);
+        if (finite) return n;
+        return det < 0.0 ? -cofactor : cofactor;
+    }
+    return cofactor;
+}
+
 // Silences OpenMesh's own complaints (e.g. "complex edge") while we handle the failures ourselves.
 class OpenMeshErrorsMuted {
 public:
@@ -71,21 +103,44 @@ public:
 
     Scene read() {
         scene_.path = path_;
+        for (std::size_t i = 0; i < model_.buffers.size(); ++i) {
+            // tinygltf decodes base64 up to the first character outside the alphabet and keeps what it got.
+            const std::string& uri = model_.buffers[i].uri;
+            if (uri.rfind("data:", 0) == 0)
+                if (const std::string problem = dataUriProblem(uri); !problem.empty())
+                    throw InputError(path_, "buffer " + std::to_string(i) + ": " + problem);
+        }
         readMaterials();
         if (model_.scenes.empty()) throw InputError(path_, "the file has no scene");
         int sceneIndex = model_.defaultScene >= 0 ? model_.defaultScene : 0;
         if (std::size_t(sceneIndex) >= model_.scenes.size())
             throw InputError(path_, "default scene " + std::to_string(sceneIndex) + " does not exist");
-        std::vector<char> onPath(model_.nodes.size(), 0);
-        for (int root : model_.scenes[std::size_t(sceneIndex)].nodes) visitNode(root, glm::dmat4(1.0), onPath);
-        if (scene_.triangleCount() == 0)
+        std::vector<std::uint8_t> state(model_.nodes.size(), kUnvisited);
+        for (int root : model_.scenes[std::size_t(sceneIndex)].nodes) visitTree(root, state);
+        if (collapsingNodes_ > kMaxCollapseWarnings)
+            warn("and " + std::to_string(collapsingNodes_ - kMaxCollapseWarnings) +
+                 " more nodes whose singular transforms collapse triangles to zero area (dropped)");
+        if (scene_.triangleCount() == 0) {
+            if (collapsedTriangles_ > 0)
+                throw InputError(path_, "the scene has no triangles to bake: " + firstCollapsingNode_ +
+                                            (collapsingNodes_ > 1 ? " and " + std::to_string(collapsingNodes_ - 1) +
+                                                                        " more nodes have singular transforms that collapse their "
+                                                                  : " has a singular transform that collapses its ") +
+                                            std::to_string(collapsedTriangles_) + " triangles to zero area");
             throw InputError(path_, "the scene has no triangles to bake (empty scene)");
+        }
         return std::move(scene_);
     }
 
 private:
+    static constexpr std::uint8_t kUnvisited = 0, kOnPath = 1, kDone = 2;
+
     void warn(const std::string& message) { scene_.report.warnings.push_back(message); }
 
+    std::string nodeLabel(int index) const {
+        const std::string& name = model_.nodes[std::size_t(index)].name;
+        return name.empty() ? "node " + std::to_string(index) : "node '" + name + "' (node " + std::to_string(index) + ")";
+    }
     void readMaterials() {
         for (std::size_t i = 0; i < model_.materials.size(); ++i) {
             const tinygltf::Material& gm = model_.materials[i];
@@ -174,12 +229,41 @@ private:
         return defaultMaterial_;
     }
 
-    void visitNode(int index, const glm::dmat4& parent, std::vector<char>& onPath) {
+    // Depth-first over the node tree without recursion (hierarchies tens of thousands deep are legal glTF), in the
+    // order a recursive walk takes: a node, then each child's subtree in turn.
+    struct Frame {
+        int node;
+        glm::dmat4 world;
+        std::size_t nextChild = 0;
+    };
+
+    void visitTree(int root, std::vector<std::uint8_t>& state) {
+        std::vector<Frame> stack;
+        enterNode(root, glm::dmat4(1.0), state, stack);
+        while (!stack.empty()) {
+            Frame& top = stack.back();
+            const std::vector<int>& children = model_.nodes[std::size_t(top.node)].children;
+            if (top.nextChild < children.size()) {
+                const int child = children[top.nextChild++];
+                const glm::dmat4 parentWorld = top.world;  // enterNode may reallocate the stack
+                enterNode(child, parentWorld, state, stack);
+            } else {
+                state[std::size_t(top.node)] = kDone;
+                stack.pop_back();
+            }
+        }
+    }
+
+    void enterNode(int index, const glm::dmat4& parent, std::vector<std::uint8_t>& state, std::vector<Frame>& stack) {
         if (index < 0 || std::size_t(index) >= model_.nodes.size())
             throw InputError(path_, "the scene refers to node " + std::to_string(index) + ", which does not exist");
-        if (onPath[std::size_t(index)])
+        if (state[std::size_t(index)] == kOnPath)
             throw InputError(path_, "node " + std::to_string(index) + " is its own ancestor (cycle in the node hierarchy)");
-        onPath[std::size_t(index)] = 1;
+        // glTF: the hierarchy is a set of disjoint trees. A node reached twice would be baked twice, and a chain of
+        // nodes listing the next one twice would be walked 2^n times.
+        if (state[std::size_t(index)] == kDone)
+            throw InputError(path_, nodeLabel(index) + " is reached twice from the scene (a node may have only one parent)");
+        state[std::size_t(index)] = kOnPath;
         const tinygltf::Node& node = model_.nodes[std::size_t(index)];
         const glm::dmat4 world = parent * nodeLocalMatrix(node);
         if (!allFinite(world))
@@ -191,20 +275,44 @@ private:
                                             ", which does not exist");
             ++scene_.report.meshNodes;
             const tinygltf::Mesh& mesh = model_.meshes[std::size_t(node.mesh)];
-            for (std::size_t p = 0; p < mesh.primitives.size(); ++p) readPrimitive(index, node.mesh, int(p), world);
+            std::size_t collapsed = 0, triangles = 0;
+            for (std::size_t p = 0; p < mesh.primitives.size(); ++p) {
+                const PrimitiveCounts counts = readPrimitive(index, node.mesh, int(p), world);
+                collapsed += counts.collapsed;
+                triangles += counts.triangles;
+            }
+            if (collapsed > 0) reportCollapse(index, collapsed, triangles);
         }
-        if (node.camera >= 0) readCamera(node, world);
+        if (node.camera >= 0) readCamera(index, world);
         if (node.extras.IsObject() && node.extras.Has("hemibake_probe") && node.extras.Get("hemibake_probe").IsBool() &&
             node.extras.Get("hemibake_probe").Get<bool>())
             scene_.probePositions.push_back(glm::dvec3(world[3]));  // the node's world translation
         auto light = node.extensions.find("KHR_lights_punctual");
         if (light != node.extensions.end() && light->second.Has("light"))
-            readLight(light->second.Get("light").GetNumberAsInt(), world);
-        for (int child : node.children) visitNode(child, world, onPath);
-        onPath[std::size_t(index)] = 0;
+            readLight(index, light->second.Get("light").GetNumberAsInt(), world);
+        stack.push_back({index, world, 0});
     }
 
-    void readCamera(const tinygltf::Node& node, const glm::dmat4& world) {
+    // A node whose transform is singular (a zero matrix, a zero scale) flattens its triangles; they are dropped, and
+    // the user is told which node did it.
+    void reportCollapse(int index, std::size_t collapsed, std::size_t triangles) {
+        collapsedTriangles_ += collapsed;
+        if (collapsingNodes_++ == 0) firstCollapsingNode_ = nodeLabel(index);
+        if (collapsingNodes_ <= kMaxCollapseWarnings)
+            warn(nodeLabel(index) + ": its transform is singular and collapses " + std::to_string(collapsed) + " of its " +
+                 std::to_string(triangles) + " triangles to zero area; they are dropped");
+    }
+
+    // A direction carried through a node's world transform; nullopt when the transform collapses it.
+    static std::optional<glm::vec3> worldDirection(const glm::dmat4& world, const glm::dvec3& local) {
+        const glm::dvec3 d = glm::dmat3(world) * local;
+        const double len = glm::length(d);
+        if (!(len > 0.0) || !std::isfinite(len)) return std::nullopt;
+        return glm::vec3(d / len);
+    }
+
+    void readCamera(int nodeIndex, const glm::dmat4& world) {
+        const tinygltf::Node& node = model_.nodes[std::size_t(nodeIndex)];
         if (std::size_t(node.camera) >= model_.cameras.size())
             throw InputError(path_, "node '" + node.name + "' refers to a camera that does not exist");
         const tinygltf::Camera& gc = model_.cameras[std::size_t(node.camera)];
@@ -214,16 +322,21 @@ private:
         }
         Camera c;
         c.name = !gc.name.empty() ? gc.name : node.name;
+        const auto forward = worldDirection(world, glm::dvec3(0, 0, -1)), up = worldDirection(world, glm::dvec3(0, 1, 0));
+        if (!forward || !up) {
+            warn("camera '" + c.name + "' on " + nodeLabel(nodeIndex) + " is skipped: the node's transform is singular");
+            return;
+        }
         c.position = glm::dvec3(world[3]);
-        c.forward = glm::normalize(glm::vec3(glm::dmat3(world) * glm::dvec3(0, 0, -1)));
-        c.up = glm::normalize(glm::vec3(glm::dmat3(world) * glm::dvec3(0, 1, 0)));
+        c.forward = *forward;
+        c.up = *up;
         c.yfovRadians = float(gc.perspective.yfov);
         c.aspectRatio = float(gc.perspective.aspectRatio);
         c.znear = float(gc.perspective.znear);
         scene_.cameras.push_back(c);
     }
 
-    void readLight(int index, const glm::dmat4& world) {
+    void readLight(int nodeIndex, int index, const glm::dmat4& world) {
         if (index < 0 || std::size_t(index) >= model_.lights.size())
             throw InputError(path_, "a node refers to light " + std::to_string(index) + ", which does not exist");
         const tinygltf::Light& gl = model_.lights[std::size_t(index)];
@@ -239,21 +352,42 @@ private:
         else if (gl.type == "directional") l.type = LightType::Directional;
         else throw InputError(path_, "light '" + l.name + "' has unknown type '" + gl.type + "'");
         l.position = glm::dvec3(world[3]);
-        l.direction = glm::normalize(glm::vec3(glm::dmat3(world) * glm::dvec3(0, 0, -1)));
+        const auto direction = worldDirection(world, glm::dvec3(0, 0, -1));
+        if (!direction) {
+            if (l.type != LightType::Point) {
+                warn("light '" + l.name + "' on " + nodeLabel(nodeIndex) + " is skipped: the node's transform is singular");
+                return;
+            }
+            l.direction = glm::vec3(0.0f, 0.0f, -1.0f);  // a point light has no direction
+        } else {
+            l.direction = *direction;
+        }
         l.innerConeAngle = float(gl.spot.innerConeAngle);
         l.outerConeAngle = float(gl.spot.outerConeAngle);
         l.range = float(gl.range);
         scene_.lights.push_back(l);
     }
 
-    void readPrimitive(int nodeIndex, int meshIndex, int primIndex, const glm::dmat4& world) {
+    static std::string formatMetres(double m) {
+        std::ostringstream o;
+        o << m << " m";
+        return o.str();
+    }
+
+    struct PrimitiveCounts {
+        std::size_t triangles = 0;  // triangles in the primitive
+        std::size_t collapsed = 0;  // of those, with area in the mesh's own frame and none in world space
+    };
+
+    PrimitiveCounts readPrimitive(int nodeIndex, int meshIndex, int primIndex, const glm::dmat4& world) {
+        PrimitiveCounts counts;
         const tinygltf::Primitive& prim = model_.meshes[std::size_t(meshIndex)].primitives[std::size_t(primIndex)];
         const std::string where = "mesh " + std::to_string(meshIndex) + " primitive " + std::to_string(primIndex);
         const int mode = prim.mode < 0 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
         if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP && mode != TINYGLTF_MODE_TRIANGLE_FAN) {
             warn(where + ": points/lines (mode " + std::to_string(mode) + ") skipped");
             ++scene_.report.skippedPrimitives;
-            return;
+            return counts;
         }
         auto attr = prim.attributes.find("POSITION");
         if (attr == prim.attributes.end()) throw InputError(path_, where + " has no POSITION attribute");
@@ -261,6 +395,23 @@ private:
         const std::size_t vertexCount = pos.size() / 3;
         for (double v : pos)
             if (!std::isfinite(v)) throw InputError(path_, where + " POSITION has non-finite (NaN or infinite) values");
+        // World positions once, checked: a finite transform can still overflow them, or carry them absurdly far.
+        std::vector<glm::dvec3> worldPos(vertexCount);
+        for (std::size_t i = 0; i < vertexCount; ++i) {
+            const glm::dvec3 p = glm::dvec3(world * glm::dvec4(pos[3 * i], pos[3 * i + 1], pos[3 * i + 2], 1.0));
+            if (!std::isfinite(p.x + p.y + p.z))
+                throw InputError(path_, nodeLabel(nodeIndex) + ": " + where +
+                                            " has non-finite world coordinates after the node transform (overflow)");
+            const double far = std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)});
+            if (far > kMaxWorldCoordinateM) {
+                std::ostringstream o;
+                o << nodeLabel(nodeIndex) << ": " << where << " reaches world coordinate " << far
+                  << " m, beyond hemibake's limit of " << kMaxWorldCoordinateM
+                  << " m from the origin (a unit or scale error in the node transform?)";
+                throw InputError(path_, o.str());
+            }
+            worldPos[i] = p;
+        }
 
         std::vector<double> normals, uv0, uv1;
         if (auto it = prim.attributes.find("NORMAL"); it != prim.attributes.end()) {
@@ -294,6 +445,7 @@ private:
             for (std::size_t i = 0; i < vertexCount; ++i) indices[i] = std::uint32_t(i);
         }
         const auto triangles = assembleTriangles(mode, indices);
+        counts.triangles = triangles.size();
 
         MeshInstance inst;
         inst.source = {nodeIndex, meshIndex, primIndex, model_.nodes[std::size_t(nodeIndex)].name};
@@ -303,12 +455,12 @@ private:
         const int instanceIndex = int(scene_.instances.size());
         // A mirroring transform flips the winding; re-reverse it so counter-clockwise stays the front.
         const bool mirrored = glm::determinant(glm::dmat3(world)) < 0.0;
-        const glm::dmat3 normalMatrix = glm::transpose(glm::inverse(glm::dmat3(world)));
+        const glm::dmat3 normalMatrix = normalMatrixFor(glm::dmat3(world));
 
         SurfaceMesh& mesh = inst.mesh;
         std::vector<SurfaceMesh::VertexHandle> handle(vertexCount);
         auto makeVertex = [&](std::uint32_t i) {
-            const glm::dvec3 p = glm::dvec3(world * glm::dvec4(pos[3 * i], pos[3 * i + 1], pos[3 * i + 2], 1.0));
+            const glm::dvec3& p = worldPos[i];
             auto v = mesh.add_vertex({p.x, p.y, p.z});
             mesh.sourceVertex(v) = int(i);
             if (!normals.empty()) {
@@ -331,14 +483,12 @@ private:
         for (std::size_t t = 0; t < triangles.size(); ++t) {
             auto tri = triangles[t];
             if (mirrored) std::swap(tri[1], tri[2]);
-            const glm::dvec3 a = glm::dvec3(world * glm::dvec4(pos[3 * tri[0]], pos[3 * tri[0] + 1], pos[3 * tri[0] + 2], 1.0));
-            const glm::dvec3 b = glm::dvec3(world * glm::dvec4(pos[3 * tri[1]], pos[3 * tri[1] + 1], pos[3 * tri[1] + 2], 1.0));
-            const glm::dvec3 c = glm::dvec3(world * glm::dvec4(pos[3 * tri[2]], pos[3 * tri[2] + 1], pos[3 * tri[2] + 2], 1.0));
-            const double area2 = glm::length(glm::cross(b - a, c - a));
-            const double longest2 = std::max({glm::dot(b - a, b - a), glm::dot(c - b, c - b), glm::dot(a - c, a - c)});
-            // Zero-area: collinear or repeated corners, relative to the triangle's own size.
-            if (!(area2 > 1e-12 * longest2) || tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2]) {
+            if (tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2] ||
+                !hasArea(worldPos[tri[0]], worldPos[tri[1]], worldPos[tri[2]])) {
                 ++scene_.report.degenerateTriangles;
+                auto local = [&](std::uint32_t i) { return glm::dvec3(pos[3 * i], pos[3 * i + 1], pos[3 * i + 2]); };
+                if (tri[0] != tri[1] && tri[1] != tri[2] && tri[0] != tri[2] && hasArea(local(tri[0]), local(tri[1]), local(tri[2])))
+                    ++counts.collapsed;  // the node's transform flattened it
                 continue;
             }
             // Named in order: argument evaluation order is unspecified and vertex numbering should not depend on it.
@@ -357,11 +507,19 @@ private:
         }
         if (nonManifold)
             warn(where + ": " + std::to_string(nonManifold) + " non-manifold triangles kept as separate sheets");
-        if (mesh.n_faces() == 0) return;
+        if (mesh.n_faces() == 0) return counts;
         mesh.update_face_normals();
         if (normals.empty()) mesh.update_vertex_normals();
         ++scene_.report.primitives;
         scene_.instances.push_back(std::move(inst));
+        return counts;
+    }
+
+    // Zero-area: collinear or repeated corners, relative to the triangle's own size.
+    static bool hasArea(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
+        const double area2 = glm::length(glm::cross(b - a, c - a));
+        const double longest2 = std::max({glm::dot(b - a, b - a), glm::dot(c - b, c - b), glm::dot(a - c, a - c)});
+        return area2 > 1e-12 * longest2;
     }
 
     const tinygltf::Model& model_;
@@ -369,7 +527,63 @@ private:
     Scene scene_;
     std::map<int, int> imageToTexture_;
     int defaultMaterial_ = -1;
+    std::size_t collapsingNodes_ = 0, collapsedTriangles_ = 0;
+    std::string firstCollapsingNode_;
 };
+
+}  // namespace
+
+namespace {
+
+// The glTF JSON of a file tinygltf refused (error path only): the whole file, or a .glb's first chunk.
+nlohmann::json rawGltfJson(const std::string& path, bool binary) {
+    std::ifstream in(path, std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (binary) {
+        if (bytes.size() < 20) return nullptr;
+        std::uint32_t length = 0;
+        std::memcpy(&length, bytes.data() + 12, 4);
+        bytes = bytes.substr(20, length);
+    }
+    return nlohmann::json::parse(bytes, nullptr, false);
+}
+
+// Names the buffer or image whose data URI tinygltf could not decode, and what is wrong with it; "" if none is.
+std::string dataUriFailure(const nlohmann::json& gltf) {
+    if (!gltf.is_object()) return "";
+    for (const char* kind : {"buffers", "images"}) {
+        const auto list = gltf.find(kind);
+        if (list == gltf.end() || !list->is_array()) continue;
+        for (std::size_t i = 0; i < list->size(); ++i) {
+            const nlohmann::json& item = (*list)[i];
+            if (!item.is_object() || !item.contains("uri") || !item["uri"].is_string()) continue;
+            const std::string& uri = item["uri"].get_ref<const std::string&>();
+            if (uri.rfind("data:", 0) != 0) continue;
+            const std::string what = std::string(kind) == "buffers" ? "buffer " : "image ";
+            std::size_t bytes = 0;
+            if (std::string problem = dataUriProblem(uri, &bytes); !problem.empty()) return what + std::to_string(i) + ": " + problem;
+            if (std::string(kind) == "buffers" && item.contains("byteLength") && item["byteLength"].is_number_unsigned() &&
+                item["byteLength"].get<std::uint64_t>() != bytes)
+                return what + std::to_string(i) + ": data URI holds " + std::to_string(bytes) + " bytes, but its byteLength is " +
+                       std::to_string(item["byteLength"].get<std::uint64_t>());
+        }
+    }
+    return "";
+}
+
+// tinygltf's error, as one short line naming what failed.
+std::string describeLoadFailure(const std::string& path, bool binary, const std::string& err) {
+    if (err.find("data:") != std::string::npos || err.find("Failed to decode 'uri'") != std::string::npos)
+        if (std::string problem = dataUriFailure(rawGltfJson(path, binary)); !problem.empty()) return problem;
+    // "Unknown image format. STB cannot decode image data for image[3] name = ..."
+    constexpr std::string_view kUndecodable = "cannot decode image data for image[";
+    if (const std::size_t at = err.find(kUndecodable); at != std::string::npos) {
+        const std::size_t begin = at + kUndecodable.size(), end = err.find(']', begin);
+        if (end != std::string::npos)
+            return "image " + err.substr(begin, end - begin) + " could not be decoded (corrupt, or not a PNG or JPEG)";
+    }
+    return firstLine(err);
+}
 
 }  // namespace
 
@@ -377,23 +591,36 @@ void readTinyGltf(const std::string& path, tinygltf::TinyGLTF& loader, tinygltf:
     std::error_code ec;
     if (!fs::exists(path, ec)) throw InputError(path, "file not found");
     if (fs::is_directory(path, ec)) throw InputError(path, "is a directory, not a glTF file");
-    char magic[4] = {0, 0, 0, 0};
+    unsigned char header[12] = {};
+    std::size_t headerBytes = 0;
     {
         std::ifstream in(path, std::ios::binary);
         if (!in) throw InputError(path, "cannot be opened for reading");
-        in.read(magic, 4);
+        in.read(reinterpret_cast<char*>(header), sizeof header);
+        headerBytes = std::size_t(in.gcount());
     }
-    const bool binary = std::string(magic, 4) == "glTF";
+    const char* magic = reinterpret_cast<const char*>(header);
+    const bool binary = headerBytes >= 4 && std::string(magic, 4) == "glTF";
     std::string ext = fs::path(path).extension().string();
     for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
     if (ext == ".glb" && !binary) throw InputError(path, "not a binary glTF (.glb): bad magic bytes");
     if (!binary && magic[0] != '{' && magic[0] != ' ' && magic[0] != '\n' && magic[0] != '\r' && magic[0] != '\t' &&
-        static_cast<unsigned char>(magic[0]) != 0xEF)
+        header[0] != 0xEF)
         throw InputError(path, "not a glTF file (neither JSON nor binary glTF)");
+    if (binary) {
+        const std::uintmax_t size = fs::file_size(path, ec);
+        std::uint32_t declared = 0;
+        std::memcpy(&declared, header + 8, 4);
+        if (headerBytes < sizeof header)
+            throw InputError(path, "truncated binary glTF: " + std::to_string(size) + " bytes, less than its 12-byte header");
+        if (!ec && declared > size)
+            throw InputError(path, "truncated binary glTF: its header says " + std::to_string(declared) + " bytes, the file has " +
+                                       std::to_string(size));
+    }
     std::string err, warnText;
     const bool ok = binary ? loader.LoadBinaryFromFile(&model, &err, &warnText, path)
                            : loader.LoadASCIIFromFile(&model, &err, &warnText, path);
-    if (!ok) throw InputError(path, firstLine(err));
+    if (!ok) throw InputError(path, describeLoadFailure(path, binary, err));
 }
 
 Scene loadGltf(const std::string& path) {

@@ -462,6 +462,16 @@ public:
         Prepared& p = prepared_[i];
         const double angle = s_.allowRotation ? bestAngle(charts_[i].uv) : 0.0;
         p.scaledDown = scale < s_.texelsPerUnit;
+        // Shrink to the atlas before rasterizing: the raster is as large as the chart at this scale, and a chart
+        // far larger than an atlas (a 100 km floor at 8 texels/m) would need terabytes.
+        glm::dvec2 lo, hi;
+        extentAt(charts_[i].uv, angle, lo, hi);
+        const double extent = std::max(hi.x - lo.x, hi.y - lo.y) * scale;
+        const double fits = std::max(1.0, double(avail(s_.maxAtlasSize) - 2));
+        if (extent > fits) {
+            scale *= fits / extent;
+            p.scaledDown = true;
+        }
         for (int attempt = 0;; ++attempt) {
             p.scale = scale;
             p.fp[0] = rasterize(charts_[i], angle, scale, pad_);

@@ -7,10 +7,21 @@ packages=(
   libembree-dev libtbb-dev libcli11-dev nlohmann-json3-dev libstb-dev libeigen3-dev
   libgtest-dev libbenchmark-dev
   clang libclang-rt-14-dev python3
+  nodejs npm
 )
+# A package counts as present when dpkg has it installed. Node.js and npm also count when their commands exist:
+# NodeSource's (or nvm's) node is not Debian's package, and NodeSource's nodejs bundles npm and conflicts with
+# Debian's npm package, so asking apt for npm there would fail.
+present() {
+  case "$1" in
+    nodejs) command -v node >/dev/null 2>&1 && return 0 ;;
+    npm) command -v npm >/dev/null 2>&1 && return 0 ;;
+  esac
+  dpkg-query -W -f='${Status}' "$1" 2>/dev/null | grep -q "install ok installed"
+}
 missing=()
 for p in "${packages[@]}"; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+  present "$p" || missing+=("$p")
 done
 if [ ${#missing[@]} -gt 0 ]; then
   SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"
@@ -22,12 +33,18 @@ fi
 # (scripts/validate-gltf.mjs). Installed into tools/node_modules (git-ignored) with the machine's Node.js.
 GLTF_VALIDATOR_VERSION="2.0.0-dev.3.10"
 cd "$(dirname "$0")/.."
-if command -v node >/dev/null 2>&1 && command -v npm >/dev/null 2>&1; then
-  installed="$(node -p "require('./tools/node_modules/gltf-validator/package.json').version" 2>/dev/null || true)"
-  if [ "$installed" != "$GLTF_VALIDATOR_VERSION" ]; then
-    mkdir -p tools
-    npm install --prefix tools --no-save --no-audit --no-fund --loglevel=error "gltf-validator@$GLTF_VALIDATOR_VERSION"
-  fi
-else
-  echo "install-deps: node/npm not found; the glTF validator is not installed and glb validation tests will be skipped" >&2
+# The tests that validate glbs fail (never skip) without it, so a missing node/npm is an error here too.
+if ! command -v node >/dev/null 2>&1 || ! command -v npm >/dev/null 2>&1; then
+  echo "install-deps: node/npm still missing after installing nodejs and npm; cannot install the glTF validator" >&2
+  exit 1
+fi
+installed="$(node -p "require('./tools/node_modules/gltf-validator/package.json').version" 2>/dev/null || true)"
+if [ "$installed" != "$GLTF_VALIDATOR_VERSION" ]; then
+  mkdir -p tools
+  npm install --prefix tools --no-save --no-audit --no-fund --loglevel=error "gltf-validator@$GLTF_VALIDATOR_VERSION"
+fi
+installed="$(node -p "require('./tools/node_modules/gltf-validator/package.json').version" 2>/dev/null || true)"
+if [ "$installed" != "$GLTF_VALIDATOR_VERSION" ]; then
+  echo "install-deps: the glTF validator $GLTF_VALIDATOR_VERSION did not install into tools/node_modules" >&2
+  exit 1
 fi

@@ -7,6 +7,8 @@
 #include <nlohmann/json.hpp>
 
 #include "support/gltf_fixture.h"
+#include "support/gltf_validator.h"
+#include "support/hostile_gltf.h"
 
 using hemibake::test::runHemibake;
 using hemibake::test::TempDir;
@@ -56,6 +58,7 @@ TEST(CliBake, CornellWritesReportWithConvergenceHistory) {
     EXPECT_LE(solveSeconds["direct"].get<double>() + solveSeconds["shoot"].get<double>() + solveSeconds["gather"].get<double>(),
               j["timings"]["solve"].get<double>() + 1e-3);
     EXPECT_GT(j["peakMemoryMiB"].get<double>(), 0.0);
+    EXPECT_GLBS_VALID(out);
 }
 
 TEST(CliBake, BadSceneLeavesNoOutput) {
@@ -106,4 +109,110 @@ TEST(CliBake, LoaderWarningsReachTheUser) {
     const auto j = nlohmann::json::parse(in);
     ASSERT_EQ(j["warnings"].size(), 1u) << j["warnings"].dump();
     EXPECT_NE(j["warnings"][0].get<std::string>().find("clamped"), std::string::npos);
+    // The input's baseColorFactor 1.5 is invalid glTF, and the output keeps the input's material as it is.
+    EXPECT_GLBS_VALID_BUT_FOR_INPUT(out, scene);
+}
+
+// ---- issue 17: input that passes the loader's parser, baked end to end ----
+
+namespace {
+
+// The quickest bake that still runs every stage.
+std::vector<std::string> quickBake(const std::string& scene, const std::string& out, std::vector<std::string> extra = {}) {
+    std::vector<std::string> args = {"bake", scene, "-o", out, "--preset", "draft", "--hemicube-res", "16", "--threads", "1"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    return args;
+}
+
+nlohmann::json readBakeJson(const std::string& out) {
+    std::ifstream in(out + "/bake.json");
+    return nlohmann::json::parse(in);
+}
+
+}  // namespace
+
+// Nested nodes used to crash the bake with a segfault (exit 139): the recursive node walk overflowed the stack from
+// about 4,700 levels (Release). 5,000 levels bake. (The loader test walks 20,000; here the Khronos validator must
+// read the output too, and its time grows with the cube of the depth: 5 s at 5,000 levels, 4.6 min at 20,000.)
+TEST(CliBakeExtremes, DeepHierarchyBakes) {
+    TempDir dir;
+    const std::string scene = hemibake::test::deepHierarchyFixture(5000).writeGltf(dir, "deep");
+    const std::string out = dir.file("out");
+    const auto r = runHemibake(quickBake(scene, out));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const nlohmann::json j = readBakeJson(out);
+    ASSERT_EQ(j["primitives"].size(), 1u);
+    EXPECT_EQ(j["primitives"][0]["node"], "leaf");
+    EXPECT_GLBS_VALID(out);
+}
+
+// A node with an all-zero matrix used to vanish without a word. The bake names it in a warning (stderr, bake.json)
+// and bakes the rest. The same for a zero scale (valid glTF, how some exporters hide objects).
+TEST(CliBakeExtremes, SingularNodeIsNamedAndTheRestBakes) {
+    for (const bool zeroMatrix : {true, false}) {
+        SCOPED_TRACE(zeroMatrix ? "zero matrix" : "zero scale");
+        TempDir dir;
+        hemibake::test::GltfFixture g = hemibake::test::singularNodeFixture(true);
+        if (!zeroMatrix) {
+            g.json()["nodes"][0].erase("matrix");
+            g.json()["nodes"][0]["scale"] = {0.0, 0.0, 0.0};
+        }
+        const std::string scene = g.writeGltf(dir, "singular");
+        const std::string out = dir.file("out");
+        const auto r = runHemibake(quickBake(scene, out));
+        ASSERT_EQ(r.exitCode, 0) << r.err;
+        const std::string warning = "node 'flat' (node 0): its transform is singular and collapses 2 of its 2 triangles to zero area";
+        EXPECT_NE(r.err.find("hemibake: warning: " + scene + ": " + warning), std::string::npos) << r.err;
+        const nlohmann::json j = readBakeJson(out);
+        ASSERT_EQ(j["warnings"].size(), 1u) << j["warnings"].dump();
+        EXPECT_EQ(j["warnings"][0].get<std::string>().rfind(warning, 0), 0u) << j["warnings"].dump();
+        ASSERT_EQ(j["primitives"].size(), 1u);
+        EXPECT_EQ(j["primitives"][0]["node"], "floor");
+        // A zero matrix is invalid glTF (NODE_MATRIX_NON_TRS) and the output keeps the input's nodes.
+        if (zeroMatrix)
+            EXPECT_GLBS_VALID_BUT_FOR_INPUT(out, scene);
+        else
+            EXPECT_GLBS_VALID(out);
+    }
+}
+
+// Sparse accessors are read by the loader and written back by the glTF writer: the output validates and holds
+// the substituted corners (the unit quad's area, not the base view's).
+TEST(CliBakeExtremes, SparseAccessorSceneBakes) {
+    TempDir dir;
+    const std::string scene = hemibake::test::sparseQuadFixture().writeGltf(dir, "sparse");
+    const std::string out = dir.file("out");
+    const auto r = runHemibake(quickBake(scene, out));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const auto info = runHemibake({"info", out + "/sparse.glb", "--json"});
+    ASSERT_EQ(info.exitCode, 0) << info.err;
+    const nlohmann::json j = nlohmann::json::parse(info.out);
+    EXPECT_NEAR(j["surfaceAreaM2"].get<double>(), 1.0, 1e-9);
+    EXPECT_EQ(j["bounds"]["max"], nlohmann::json({1.0, 0.0, 1.0}));
+    EXPECT_GLBS_VALID(out);
+}
+
+// The world-coordinate limit is no size judgement: a 100 km level and a 1 mm scene 6,400 km from the origin bake.
+// (The 100 km floor at draft's default density is shrunk to one atlas: mesh_pack_test; here few texels keep it quick.)
+TEST(CliBakeExtremes, HundredKilometreAndFarMillimetreScenesBake) {
+    TempDir dir;
+    struct Case {
+        const char* name;
+        double scale, offset;
+        const char* texelsPerUnit;
+    };
+    for (const Case& c : {Case{"level", 1e5, 0.0, "0.0005"}, Case{"tiny", 1e-3, 6.4e6, "50000"}}) {
+        SCOPED_TRACE(c.name);
+        hemibake::test::GltfFixture g = hemibake::test::unitQuadFixture();
+        g.json()["nodes"][0]["scale"] = {c.scale, c.scale, c.scale};
+        g.json()["nodes"][0]["translation"] = {0.0, c.offset, 0.0};
+        const std::string scene = g.writeGltf(dir, c.name);
+        const std::string out = dir.file(std::string("out-") + c.name);
+        const auto r = runHemibake(quickBake(scene, out, {"--texels-per-unit", c.texelsPerUnit, "--sky", "1,1,1"}));
+        ASSERT_EQ(r.exitCode, 0) << r.err;
+        EXPECT_EQ(r.err.find("warning"), std::string::npos) << r.err;
+        const nlohmann::json j = readBakeJson(out);
+        EXPECT_EQ(j["lightmap"]["texels"].get<int>(), 2500);  // 50 × 50 either way
+        EXPECT_GLBS_VALID(out);
+    }
 }

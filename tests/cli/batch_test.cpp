@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "support/gltf_fixture.h"
+#include "support/gltf_validator.h"
 
 extern char** environ;
 
@@ -92,6 +93,8 @@ TEST(CliBatch, BakesGoodScenesReportsBrokenAndResumes) {
         << "bake.json layout changed?";
     EXPECT_EQ(readJson(dir.path() / "out/b/bake.json")["lightmap"]["texelsPerUnit"].get<double>(), 6.0);
     EXPECT_TRUE(fs::exists(dir.path() / "out/a/cornell_box.glb"));
+    EXPECT_GLBS_VALID(dir.path() / "out/a");
+    EXPECT_GLBS_VALID(dir.path() / "out/b");
     EXPECT_TRUE(fs::exists(dir.path() / "out/a/batch-stamp.json"));
     EXPECT_FALSE(fs::exists(dir.path() / "out/broken"));
     EXPECT_FALSE(hasStagingLeft(dir.path()));
@@ -120,6 +123,33 @@ TEST(CliBatch, BakesGoodScenesReportsBrokenAndResumes) {
     EXPECT_EQ(scenes["a"]["status"], "skipped");
     EXPECT_EQ(scenes["broken"]["status"], "ok");
     EXPECT_EQ(scenes["b"]["status"], "ok");
+    for (const char* out : {"out/a", "out/b", "out/broken"}) EXPECT_GLBS_VALID(dir.path() / out);
+
+    // Everything is up to date now: a plain run bakes nothing (a file left in an output survives), --force re-bakes
+    // every scene (each output is replaced whole: the file is gone, bake.json and the stamp are new).
+    std::ofstream(dir.path() / "out/a/left-behind.txt") << "not part of the bake";
+    const auto stampedAt = fs::last_write_time(dir.path() / "out/a/batch-stamp.json");
+    const auto reportedAt = fs::last_write_time(dir.path() / "out/a/bake.json");
+    r = runHemibake({"batch", manifest, "--json"});
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    for (const auto& [name, s] : byName(nlohmann::json::parse(r.out))) EXPECT_EQ(s["status"], "skipped") << name;
+    EXPECT_TRUE(fs::exists(dir.path() / "out/a/left-behind.txt"));
+    EXPECT_EQ(fs::last_write_time(dir.path() / "out/a/bake.json"), reportedAt);
+    r = runHemibake({"batch", manifest, "--force", "--json"});
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    const auto forced = nlohmann::json::parse(r.out);
+    EXPECT_TRUE(forced["force"].get<bool>()) << forced.dump();
+    scenes = byName(forced);
+    ASSERT_EQ(scenes.size(), 3u);
+    for (const auto& [name, s] : scenes) {
+        EXPECT_EQ(s["status"], "ok") << name;
+        EXPECT_FALSE(s.contains("reason")) << name << ": " << s.dump();
+    }
+    EXPECT_FALSE(fs::exists(dir.path() / "out/a/left-behind.txt")) << "--force did not replace out/a";
+    EXPECT_NE(fs::last_write_time(dir.path() / "out/a/bake.json"), reportedAt);
+    EXPECT_NE(fs::last_write_time(dir.path() / "out/a/batch-stamp.json"), stampedAt);
+    EXPECT_FALSE(hasStagingLeft(dir.path()));
+    for (const char* out : {"out/a", "out/b", "out/broken"}) EXPECT_GLBS_VALID(dir.path() / out);
 
     // An edited input (the shared .bin) invalidates every scene that reads it; --force rebakes regardless.
     std::ofstream(dir.file("cornell_box.bin"), std::ios::app) << '\0';
@@ -170,6 +200,7 @@ TEST(CliBatch, InterruptLeavesNoPartialOutputAndResumes) {
     EXPECT_NE(err.str().find("interrupted"), std::string::npos) << err.str();
 
     EXPECT_TRUE(fs::exists(dir.path() / "out/quick/bake.json"));
+    EXPECT_GLBS_VALID(dir.path() / "out/quick");
     EXPECT_FALSE(fs::exists(dir.path() / "out/level")) << "partial output left behind";
     EXPECT_FALSE(hasStagingLeft(dir.path()));
     auto scenes = byName(readJson(dir.file("batch.json")));

@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "support/gltf_fixture.h"
+#include "support/gltf_validator.h"
 
 using hemibake::test::runHemibake;
 using hemibake::test::TempDir;
@@ -32,6 +33,7 @@ TEST(CliCornellMedium, LightmapsAgreeWithTheSolverAndThePathTracer) {
     const auto bake = runHemibake({"bake", hemibake::test::sharedScene("cornell_box.gltf"), "-o", out, "--preset", "medium",
                                    "--texels-per-unit", "32"});
     ASSERT_EQ(bake.exitCode, 0) << bake.err;
+    EXPECT_GLBS_VALID(out);
     const nlohmann::json report = nlohmann::json::parse(std::ifstream(out + "/bake.json"));
 
     // Lightmap vs elements, per surface, over the same texels (texels inside geometry left out).
@@ -69,6 +71,7 @@ TEST(CliCornellMedium, DefaultBakeAgreesWithItsElementsWithinOnePercent) {
     const std::string out = dir.file("bake");
     const auto bake = runHemibake({"bake", hemibake::test::sharedScene("cornell_box.gltf"), "-o", out});
     ASSERT_EQ(bake.exitCode, 0) << bake.err;
+    EXPECT_GLBS_VALID(out);
     const nlohmann::json report = nlohmann::json::parse(std::ifstream(out + "/bake.json"));
     EXPECT_EQ(report["settings"]["preset"], "medium");
     const nlohmann::json& agreement = report["lightmap"]["surfaceAgreement"];

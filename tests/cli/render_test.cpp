@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "support/gltf_fixture.h"
+#include "support/gltf_validator.h"
 
 using hemibake::test::runHemibake;
 using hemibake::test::TempDir;
@@ -39,6 +40,7 @@ TEST(CliRender, FurnaceRendersEmissionOverOneMinusReflectanceEverywhere) {
                                    "0.5", "--texels-per-unit", "16", "--epsilon", "0.02", "--texel-mode", "gather",
                                    "--hemicube-res", "128"});
     ASSERT_EQ(bake.exitCode, 0) << bake.err;
+    EXPECT_GLBS_VALID(out);
     // The bake's own preview from the scene camera (aspect 1.5 → 640 × 427).
     const nlohmann::json report = nlohmann::json::parse(std::ifstream(fs::path(out) / "bake.json"));
     ASSERT_TRUE(report.contains("preview"));
@@ -78,6 +80,7 @@ TEST(CliRender, CornellMatchesThePathTracedCameraImage) {
     const std::string out = dir.file("bake");
     const auto bake = runHemibake({"bake", hemibake::test::sharedScene("cornell_box.gltf"), "-o", out, "--preset", "draft"});
     ASSERT_EQ(bake.exitCode, 0) << bake.err;
+    EXPECT_GLBS_VALID(out);
     const std::string rendered = dir.file("render.exr"), reference = dir.file("reference.exr");
     const auto r = runHemibake({"render", out, "--camera", "cornell_camera", "--width", "96", "-o", rendered});
     ASSERT_EQ(r.exitCode, 0) << r.err;

@@ -225,6 +225,33 @@ TEST(MeshPack, OversizedChartIsScaledDownWithWarning) {
     expectDisjointPadded(atlas, s.paddingTexels, s.borderTexels);
 }
 
+// A 100 km floor at 8 texels/m wants 800,000² texels: the packer must shrink it to the atlas before it rasterizes
+// (it used to rasterize at full size first: std::bad_alloc, "hemibake: out of memory" from a bake).
+TEST(MeshPack, ChartFarLargerThanTheAtlasIsShrunkBeforeRasterizing) {
+    const std::vector<glm::dvec2> floor{{0, 0}, {1e5, 0}, {1e5, 1e5}, {0, 1e5}};
+    const std::vector<std::array<std::int32_t, 3>> tris{{0, 1, 2}, {0, 2, 3}};
+    std::vector<PackChartInput> in{{floor, tris, 0}};
+    PackSettings s;
+    s.texelsPerUnit = 8.0;
+    s.maxAtlasSize = 1024;
+    const PackResult r = packCharts(in, s);
+    ASSERT_EQ(r.atlasSize.size(), 1u);
+    EXPECT_LE(r.atlasSize[0], 1024);
+    const PackedChart& c = r.charts[0];
+    EXPECT_TRUE(c.scaledDown);
+    EXPECT_EQ(r.scaledDownCharts, 1u);
+    ASSERT_EQ(r.warnings.size(), 1u);
+    EXPECT_NE(r.warnings[0].find("scaled down to fit a 1024 atlas"), std::string::npos) << r.warnings[0];
+    EXPECT_LE(std::max(c.width, c.height), 1024 - 2 * s.borderTexels);
+    // Shrunk to the atlas, not far below it: within 3 % of the largest square that fits.
+    EXPECT_GT(c.scale * 1e5, 0.97 * (1024 - 2 * s.borderTexels - 2));
+    for (const auto& uv : floor) {
+        const glm::dvec2 t = c.toTexels(uv);
+        EXPECT_GE(std::min(t.x, t.y), double(s.borderTexels) - 1e-9);
+        EXPECT_LE(std::max(t.x, t.y), double(r.atlasSize[0] - s.borderTexels) + 1e-9);
+    }
+}
+
 TEST(MeshPack, ChartsAreTurnedToTheirMinimalBoundingBox) {
     // A 1 m × 0.25 m rectangle turned 30° in the ground plane: packed as 64 × 16 texels, not its 30° bbox.
     SceneBuilder b;

@@ -523,6 +523,7 @@ TEST(GltfWriter, CreatesMissingFoldersAndNeverLeavesAPartialFile) {
     const fs::path glb = dir.path() / "a" / "b" / "c" / "scene.glb";
     writeLightmappedGlb(input, b.scene, b.atlas, b.lightmaps, glb);
     ASSERT_TRUE(fs::is_regular_file(glb));
+    EXPECT_GLTF_VALID(glb.string());
     const auto listing = [](const fs::path& d) {
         std::vector<std::string> names;
         for (const auto& e : fs::directory_iterator(d)) names.push_back(e.path().filename().string());
