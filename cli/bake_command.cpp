@@ -47,7 +47,6 @@ struct BakeOptions {
 
 template <class T, class U>
 void override(const std::optional<T>& option, U& value) { if (option) value = U(*option); }
-
 BakeSettings resolveSettings(const BakeOptions& o, double sceneDiagonalM) {
     BakeSettings s = presetSettings(o.preset, sceneDiagonalM);
     SubdivisionSettings& sub = s.solve.subdivision;
