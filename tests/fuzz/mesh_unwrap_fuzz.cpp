@@ -2,7 +2,8 @@
 // scene satisfies the loader's guarantees: finite, no zero-area triangles, non-manifold faces as separate sheets),
 // then subdivided into patches and elements (mesh/subdivision) and unwrapped into lightmap atlases (charts,
 // parameterize, pack, uv_atlas) with texels placed on them (mesh/texels). Any crash, ASan/UBSan report, hang
-// (-timeout) or broken promise of those headers (checked below, __builtin_trap) is a finding.
+// (-timeout) or broken promise of those headers (checked below, __builtin_trap) is a finding; an InputError (the
+// loader's, or an instance whose charts cannot share one atlas) is the expected way to refuse.
 //
 // Input layout (FuzzedDataProvider): a few choices (scale, offset, sizes, settings), then per instance a vertex
 // count and coordinates on a small integer grid (so corners coincide, edges are shared and slivers occur), then
@@ -161,7 +162,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     uw.allowRotation = in.ConsumeBool();
     uw.powerOfTwo = in.ConsumeBool();
     uw.keepExistingUv = withUv1 && in.ConsumeBool();
-    const hemibake::UvAtlas atlas = hemibake::unwrapScene(scene, uw);
+    hemibake::UvAtlas atlas;
+    try {
+        atlas = hemibake::unwrapScene(scene, uw);
+    } catch (const hemibake::InputError&) {
+        return 0;  // more charts than one atlas of this size holds with this padding: a message, not a crash
+    }
     check(atlas.instances.size() == scene.instances.size());
     for (const hemibake::AtlasPage& page : atlas.atlases) check(page.size > 0 && page.size <= uw.maxAtlasSize);
     for (const hemibake::UnwrappedInstance& ui : atlas.instances) {
