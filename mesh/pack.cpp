@@ -620,16 +620,24 @@ PackResult packCharts(std::span<const PackChartInput> charts, const PackSettings
         if (g.area > 0.25 * capacity) {  // might not fit alone
             std::vector<Placement> placement;
             double factor = g.area > 0.8 * capacity ? std::sqrt(0.8 * capacity / g.area) : 1.0;
-            bool scaled = false;
-            for (int attempt = 0; attempt < 60; ++attempt) {
+            bool scaled = false, fits = false;
+            for (int attempt = 0; attempt < 60 && !fits; ++attempt) {
                 if (factor < 1.0) {
                     for (std::size_t i : g.charts) packer.prepare(i, packer.prepared(i).scale * factor);
                     g.charts = packer.sorted(g.charts);
                     scaled = true;
                 }
-                if (packer.packAll(g.charts, placement) > 0) break;
+                fits = packer.packAll(g.charts, placement) > 0;
                 factor = 0.95;
             }
+            // Past a point shrinking gains nothing: every chart keeps one texel and its padding. Such a group would be
+            // left out of every atlas (its charts without one), so it is an error the user can act on.
+            if (!fits)
+                throw PackError(charts[g.charts.front()].group, g.charts.size(),
+                                "its " + std::to_string(g.charts.size()) + " charts do not fit one " +
+                                    std::to_string(settings.maxAtlasSize) + "-texel atlas with " +
+                                    std::to_string(settings.paddingTexels) + " texels of padding between them, "
+                                    "however small (raise the maximum atlas size or lower the padding)");
             g.area = 0.0;
             for (std::size_t i : g.charts) g.area += packer.estimateArea(i);
             if (scaled)
@@ -674,9 +682,12 @@ PackResult packCharts(std::span<const PackChartInput> charts, const PackSettings
             done[g] = true;
             --remaining;
         }
-        if (order.empty()) {  // cannot happen: every group packs alone
-            result.warnings.push_back("packing failed: a chart group does not fit an empty atlas");
-            break;
+        if (order.empty()) {  // cannot happen: every group that might not fit alone was packed alone above
+            for (std::size_t g = 0; g < groups.size(); ++g)
+                if (!done[g])
+                    throw PackError(charts[groups[g].charts.front()].group, groups[g].charts.size(),
+                                    "its " + std::to_string(groups[g].charts.size()) + " charts do not fit an empty " +
+                                        std::to_string(settings.maxAtlasSize) + "-texel atlas");
         }
         int size = packer.roundSize(canvas.extent());
         if (remaining == 0) {

@@ -25,6 +25,7 @@
 #include <cmath>
 #include <cstdint>
 #include <span>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -117,6 +118,21 @@ struct PackResult {
     double utilization() const;  // Σ footprints / Σ atlas texels
 };
 
+// A group whose charts do not fit one empty maxAtlasSize atlas even at the smallest scale: each chart takes at least
+// one texel plus its padding, so too many charts for the atlas size and padding cannot share one atlas.
+class PackError : public std::runtime_error {
+public:
+    PackError(std::int32_t group, std::size_t charts, const std::string& message)
+        : std::runtime_error(message), group_(group), charts_(charts) {}
+    std::int32_t group() const { return group_; }
+    std::size_t charts() const { return charts_; }
+
+private:
+    std::int32_t group_;
+    std::size_t charts_;
+};
+
+// Throws PackError when a group cannot fit one atlas (with keepGroupsTogether; else when one chart cannot).
 PackResult packCharts(std::span<const PackChartInput> charts, const PackSettings& settings);
 
 }  // namespace hemibake

@@ -2,7 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <limits>
+#include <sstream>
 #include <unordered_map>
+
+#include "mesh/errors.h"
 
 namespace hemibake {
 
@@ -153,6 +158,30 @@ void validate(const SubdivisionSettings& s) {
     if (s.emitterPatchSizeM < 0.0) throw std::invalid_argument("emitter patch size must be >= 0");
 }
 
+// Elements and vertices are indexed by 32-bit integers (ElementArrays). A triangle whose edges are at most s has at
+// most the equilateral's area √3/4·s², so one of area A becomes at least A/(√3/4·s²) elements: when the scene needs
+// more than an index holds at these sizes (a 100 km level at 5 cm elements: 10¹³), say so before bisecting, which
+// would exhaust memory first.
+void checkElementCount(const Scene& scene, const SubdivisionSettings& s) {
+    double lowerBound = 0.0;
+    for (const MeshInstance& instance : scene.instances) {
+        const Material& material = scene.materials[std::size_t(instance.material)];
+        const double patch = material.isEmissive() ? std::min(s.patchSizeM, emitterPatchSize(s)) : s.patchSizeM;
+        const double edge = std::min(s.elementSizeM, patch);
+        double area = 0.0;
+        for (auto f : instance.mesh.faces()) area += instance.mesh.faceArea(f);
+        lowerBound += (material.doubleSided ? 2.0 : 1.0) * area / (std::sqrt(3.0) / 4.0 * edge * edge);
+    }
+    constexpr double kMaxElements = double(std::numeric_limits<std::uint32_t>::max());
+    if (lowerBound > kMaxElements) {
+        std::ostringstream o;
+        o << "subdividing at element size " << s.elementSizeM << " m (patch size " << s.patchSizeM << " m) needs at least "
+          << lowerBound << " elements, more than hemibake can index (" << std::uint32_t(kMaxElements)
+          << "): choose larger sizes";
+        throw InputError(scene.path, o.str());
+    }
+}
+
 }  // namespace
 
 std::size_t bisectLongEdges(SurfaceMesh& mesh, double maxEdgeM) {
@@ -200,6 +229,7 @@ std::size_t bisectLongEdges(SurfaceMesh& mesh, const std::function<double(const 
 
 PatchMesh subdivide(const Scene& scene, const SubdivisionSettings& settings, const RefinementRequest* refinement) {
     validate(settings);
+    checkElementCount(scene, settings);
     const RefinementLookup lookup(refinement);
     PatchMesh out;
     const Bounds bounds = scene.bounds();

@@ -6,6 +6,8 @@
 #include <limits>
 #include <optional>
 
+#include "mesh/errors.h"
+
 namespace hemibake {
 
 namespace {
@@ -100,7 +102,15 @@ UvAtlas unwrapScene(const Scene& scene, const UnwrapSettings& settings) {
     std::vector<PackChartInput> inputs;
     inputs.reserve(pending.size());
     for (const auto& p : pending) inputs.push_back({p.chart.uv, p.chart.triangles, p.instance});
-    const PackResult packed = packCharts(inputs, settings.packSettings());
+    PackResult packed;
+    try {
+        packed = packCharts(inputs, settings.packSettings());
+    } catch (const PackError& e) {
+        const SourcePrimitive& src = scene.instances[std::size_t(e.group())].source;
+        const std::string node = src.nodeName.empty() ? "node " + std::to_string(src.node) : "node '" + src.nodeName + "'";
+        throw InputError(scene.path, node + " (mesh " + std::to_string(src.mesh) + " primitive " + std::to_string(src.primitive) +
+                                         "): " + e.what());
+    }
     st.packSeconds = seconds(tk, Clock::now());
     for (const auto& w : packed.warnings) out.warnings.push_back(w);
     st.scaledDownCharts = packed.scaledDownCharts;

@@ -2,13 +2,11 @@
 // exit codes, resuming without re-baking, interrupts that leave no partial output, and shards that partition.
 #include <chrono>
 #include <csignal>
-#include <fcntl.h>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <set>
 #include <sstream>
-#include <spawn.h>
 #include <sys/wait.h>
 #include <thread>
 
@@ -17,8 +15,7 @@
 
 #include "support/gltf_fixture.h"
 #include "support/gltf_validator.h"
-
-extern char** environ;
+#include "support/spawn_hemibake.h"
 
 namespace fs = std::filesystem;
 using hemibake::test::runHemibake;
@@ -169,17 +166,8 @@ TEST(CliBatch, InterruptLeavesNoPartialOutputAndResumes) {
                          {"scenes", {{{"scene", "cornell_box.gltf"}, {"output", "out/quick"}, {"name", "quick"}},
                                      {{"scene", level}, {"output", "out/level"}, {"name", "level"},
                                       {"settings", {{"preset", "medium"}, {"texels-per-unit", 16}}}}}}});
-    std::vector<std::string> args = {"hemibake", "batch", manifest};
-    std::vector<char*> argv;
-    for (std::string& a : args) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    posix_spawn_file_actions_t fa;
-    posix_spawn_file_actions_init(&fa);
-    posix_spawn_file_actions_addopen(&fa, STDERR_FILENO, dir.file("err").c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    posix_spawn_file_actions_addopen(&fa, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
-    pid_t pid = -1;
-    ASSERT_EQ(posix_spawn(&pid, HEMIBAKE_BINARY, &fa, nullptr, argv.data(), environ), 0);
-    posix_spawn_file_actions_destroy(&fa);
+    const pid_t pid = hemibake::test::spawnHemibake({"batch", manifest}, dir.file("err"));
+    ASSERT_GT(pid, 0);
     // Wait (by what is on disk, not by a clock) until the quick scene is in place and the level is being baked.
     bool staging = false;
     for (int i = 0; i < 6000 && !staging; ++i) {

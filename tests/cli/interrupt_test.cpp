@@ -15,7 +15,6 @@
 #include <poll.h>
 #include <set>
 #include <sstream>
-#include <spawn.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -25,8 +24,7 @@
 
 #include "support/gltf_fixture.h"
 #include "support/gltf_validator.h"
-
-extern char** environ;
+#include "support/spawn_hemibake.h"
 
 namespace fs = std::filesystem;
 using hemibake::test::runHemibake;
@@ -55,21 +53,13 @@ TEST(CliBakeInterrupted, SigkillMidWriteThenRebakeLeavesOnlyTheBake) {
     const fs::path out = dir.path() / "out";
     // A few seconds: draft, small hemicubes, one thread; 64 texels/m makes the lightmap PNG and the glb far larger
     // than the 4 KiB the pipes hold.
-    std::vector<std::string> args = {"hemibake", "bake", scene, "-o", out.string(), "--preset", "draft", "--hemicube-res",
-                                     "16", "--threads", "1", "--texels-per-unit", "64", "--no-preview"};
-    std::vector<char*> argv;
-    for (std::string& a : args) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    posix_spawn_file_actions_t fa;
-    posix_spawn_file_actions_init(&fa);
-    posix_spawn_file_actions_addopen(&fa, STDERR_FILENO, dir.file("err").c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    posix_spawn_file_actions_addopen(&fa, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
-    pid_t pid = -1;
+    const std::vector<std::string> args = {"bake", scene, "-o", out.string(), "--preset", "draft", "--hemicube-res", "16",
+                                           "--threads", "1", "--texels-per-unit", "64", "--no-preview"};
     // Everything up to the writes (load, solve, lightmaps) takes the bake a second or more; the pipes are in place
     // long before.
     fs::create_directories(out / "lightmaps");
-    ASSERT_EQ(posix_spawn(&pid, HEMIBAKE_BINARY, &fa, nullptr, argv.data(), environ), 0);
-    posix_spawn_file_actions_destroy(&fa);
+    pid_t pid = hemibake::test::spawnHemibake(args, dir.file("err"));
+    ASSERT_GT(pid, 0);
     const std::string tmp = ".tmp-" + std::to_string(pid) + "-";
     const fs::path pipes[] = {out / "lightmaps" / (tmp + "0.png"), out / (tmp + "cornell_box.glb")};
     std::vector<pollfd> readers;
@@ -111,7 +101,7 @@ TEST(CliBakeInterrupted, SigkillMidWriteThenRebakeLeavesOnlyTheBake) {
     EXPECT_FALSE(left.count("bake.json"));
 
     // The same bake into the same OUT.
-    const auto again = runHemibake(std::vector<std::string>(args.begin() + 1, args.end()));
+    const auto again = runHemibake(args);
     ASSERT_EQ(again.exitCode, 0) << again.err;
     const std::set<std::string> after = listing(out);
     EXPECT_FALSE(anyTemporary(after)) << "temporary files left behind";

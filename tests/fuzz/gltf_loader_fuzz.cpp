@@ -13,6 +13,7 @@
 #include <string>
 #include <unistd.h>
 
+#include "fuzz_scratch_dir.h"
 #include "mesh/errors.h"
 #include "mesh/gltf_loader.h"
 
@@ -20,22 +21,15 @@ namespace {
 
 class FuzzInputFile {
 public:
-    FuzzInputFile() : dir_(std::filesystem::temp_directory_path() / ("hemibake-fuzz-" + std::to_string(::getpid()))) {
-        std::filesystem::create_directories(dir_);
-    }
-    ~FuzzInputFile() {
-        std::error_code ec;
-        std::filesystem::remove_all(dir_, ec);
-    }
     std::string write(const std::uint8_t* data, std::size_t size) {
         const bool binary = size >= 4 && std::memcmp(data, "glTF", 4) == 0;
-        const std::filesystem::path path = dir_ / (binary ? "input.glb" : "input.gltf");
+        const std::filesystem::path path = dir_.path() / (binary ? "input.glb" : "input.gltf");
         std::ofstream(path, std::ios::binary | std::ios::trunc).write(reinterpret_cast<const char*>(data), std::streamsize(size));
         return path.string();
     }
 
 private:
-    std::filesystem::path dir_;
+    hemibake::fuzz::ScratchDir dir_{"hemibake-fuzz"};
 };
 
 }  // namespace

@@ -2,7 +2,8 @@
 // scene satisfies the loader's guarantees: finite, no zero-area triangles, non-manifold faces as separate sheets),
 // then subdivided into patches and elements (mesh/subdivision) and unwrapped into lightmap atlases (charts,
 // parameterize, pack, uv_atlas) with texels placed on them (mesh/texels). Any crash, ASan/UBSan report, hang
-// (-timeout) or broken promise of those headers (checked below, __builtin_trap) is a finding.
+// (-timeout) or broken promise of those headers (checked below, __builtin_trap) is a finding; an InputError (the
+// loader's, or an instance whose charts cannot share one atlas) is the expected way to refuse.
 //
 // Input layout (FuzzedDataProvider): a few choices (scale, offset, sizes, settings), then per instance a vertex
 // count and coordinates on a small integer grid (so corners coincide, edges are shared and slivers occur), then
@@ -20,6 +21,7 @@
 #include <fuzzer/FuzzedDataProvider.h>
 #include <nlohmann/json.hpp>
 
+#include "fuzz_scratch_dir.h"
 #include "mesh/errors.h"
 #include "mesh/gltf_loader.h"
 #include "mesh/subdivision.h"
@@ -32,37 +34,20 @@ void check(bool promise) {
     if (!promise) __builtin_trap();
 }
 
-// One .glb per process, rewritten for every input.
+// One .gltf + .bin pair per process, rewritten for every input.
 class SceneFile {
 public:
-    SceneFile() : path_(std::filesystem::temp_directory_path() / ("hemibake-fuzz-unwrap-" + std::to_string(::getpid()) + ".glb")) {}
-    ~SceneFile() {
-        std::error_code ec;
-        std::filesystem::remove(path_, ec);
-    }
-    std::string write(const nlohmann::json& gltf, std::vector<std::uint8_t> bin) {
-        std::string text = gltf.dump();
-        while (text.size() % 4) text += ' ';
-        while (bin.size() % 4) bin.push_back(0);
-        std::vector<std::uint8_t> out;
-        auto u32 = [&](std::uint32_t v) {
-            for (int i = 0; i < 4; ++i) out.push_back(std::uint8_t(v >> (8 * i)));
-        };
-        out.insert(out.end(), {'g', 'l', 'T', 'F'});
-        u32(2);
-        u32(std::uint32_t(12 + 8 + text.size() + 8 + bin.size()));
-        u32(std::uint32_t(text.size()));
-        u32(0x4E4F534Au);
-        out.insert(out.end(), text.begin(), text.end());
-        u32(std::uint32_t(bin.size()));
-        u32(0x004E4942u);
-        out.insert(out.end(), bin.begin(), bin.end());
-        std::ofstream(path_, std::ios::binary | std::ios::trunc).write(reinterpret_cast<const char*>(out.data()), std::streamsize(out.size()));
-        return path_.string();
+    std::string write(nlohmann::json gltf, const std::vector<std::uint8_t>& bin) {
+        gltf["buffers"][0]["uri"] = "mesh.bin";
+        std::ofstream(dir_.path() / "mesh.bin", std::ios::binary | std::ios::trunc)
+            .write(reinterpret_cast<const char*>(bin.data()), std::streamsize(bin.size()));
+        const std::filesystem::path path = dir_.path() / "mesh.gltf";
+        std::ofstream(path, std::ios::trunc) << gltf.dump();
+        return path.string();
     }
 
 private:
-    std::filesystem::path path_;
+    hemibake::fuzz::ScratchDir dir_{"hemibake-fuzz-unwrap"};
 };
 
 // Appends `bytes` to the buffer as a view; returns its index.
@@ -161,7 +146,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     uw.allowRotation = in.ConsumeBool();
     uw.powerOfTwo = in.ConsumeBool();
     uw.keepExistingUv = withUv1 && in.ConsumeBool();
-    const hemibake::UvAtlas atlas = hemibake::unwrapScene(scene, uw);
+    hemibake::UvAtlas atlas;
+    try {
+        atlas = hemibake::unwrapScene(scene, uw);
+    } catch (const hemibake::InputError&) {
+        return 0;  // more charts than one atlas of this size holds with this padding: a message, not a crash
+    }
     check(atlas.instances.size() == scene.instances.size());
     for (const hemibake::AtlasPage& page : atlas.atlases) check(page.size > 0 && page.size <= uw.maxAtlasSize);
     for (const hemibake::UnwrappedInstance& ui : atlas.instances) {

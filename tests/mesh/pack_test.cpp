@@ -7,6 +7,7 @@
 #include <map>
 #include <set>
 
+#include "mesh/errors.h"
 #include "mesh/gltf_loader.h"
 #include "mesh/pack.h"
 #include "mesh/scene_builder.h"
@@ -249,6 +250,61 @@ TEST(MeshPack, ChartFarLargerThanTheAtlasIsShrunkBeforeRasterizing) {
         const glm::dvec2 t = c.toTexels(uv);
         EXPECT_GE(std::min(t.x, t.y), double(s.borderTexels) - 1e-9);
         EXPECT_LE(std::max(t.x, t.y), double(r.atlasSize[0] - s.borderTexels) + 1e-9);
+    }
+}
+
+// Found by fuzz_mesh_unwrap: an instance with more charts than one atlas holds once each is down to a texel plus its
+// padding used to be left out of every atlas (its charts at atlas −1; unwrapScene then indexed atlas −1). It is an
+// error now, naming the instance, the charts and the settings to change.
+TEST(MeshPack, GroupThatCannotShareOneAtlasIsAnError) {
+    std::vector<glm::dvec2> uv;
+    std::vector<std::array<std::int32_t, 3>> tris;
+    for (int i = 0; i < 11; ++i) {  // 11 separate unit triangles: each needs 1 + 4 texels, 14 fit a 16-atlas row
+        uv.insert(uv.end(), {{0, 0}, {1, 0}, {0, 1}});
+        tris.push_back({3 * i, 3 * i + 1, 3 * i + 2});
+    }
+    std::vector<PackChartInput> in;
+    for (int i = 0; i < 11; ++i)
+        in.push_back({std::span<const glm::dvec2>(uv).subspan(std::size_t(3 * i), 3), std::span(tris).subspan(0, 1), 7});
+    PackSettings s;
+    s.texelsPerUnit = 1.0;
+    s.maxAtlasSize = 16;
+    s.paddingTexels = 4;
+    try {
+        packCharts(in, s);
+        FAIL() << "11 charts with 4 texels of padding fit a 16-texel atlas?";
+    } catch (const PackError& e) {
+        EXPECT_EQ(e.group(), 7);
+        EXPECT_EQ(e.charts(), 11u);
+        EXPECT_EQ(std::string(e.what()), "its 11 charts do not fit one 16-texel atlas with 4 texels of padding between them, "
+                                         "however small (raise the maximum atlas size or lower the padding)");
+    }
+    s.paddingTexels = 0;  // without padding they fit
+    const PackResult r = packCharts(in, s);
+    for (const PackedChart& c : r.charts) EXPECT_EQ(c.atlas, 0);
+
+    // Through unwrapScene: an input error naming the file and the instance.
+    SceneBuilder b("confetti.gltf");
+    const int m = b.addMaterial(glm::vec3(0.5f));
+    std::vector<glm::dvec3> p;
+    std::vector<Tri> t;
+    for (int i = 0; i < 11; ++i) {  // triangles facing 11 different ways: 11 charts
+        const double a = 2.0 * M_PI * i / 11.0;
+        const glm::dvec3 o(3.0 * i, 0.0, 0.0), u(std::cos(a), std::sin(a), 0.0);
+        p.insert(p.end(), {o, o + u, o + glm::dvec3(0, 0, 1)});
+        t.push_back({3 * i, 3 * i + 1, 3 * i + 2});
+    }
+    b.addTriangles(p, t, m, "confetti");
+    UnwrapSettings us;
+    us.texelsPerUnit = 1.0;
+    us.maxAtlasSize = 16;
+    us.paddingTexels = 4;
+    try {
+        unwrapScene(b.build(), us);
+        FAIL() << "expected an InputError";
+    } catch (const InputError& e) {
+        EXPECT_EQ(std::string(e.what()).rfind("confetti.gltf: node 'confetti' (mesh 0 primitive 0): its 11 charts do not fit one "
+                                              "16-texel atlas", 0), 0u) << e.what();
     }
 }
 

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include "mesh/errors.h"
 #include "mesh/scene_builder.h"
 #include "mesh/subdivision.h"
 
@@ -132,4 +133,25 @@ TEST(Subdivision, TouchingBoundariesConform) {
         }
     EXPECT_GT(zOf[0].size(), 2u);
     EXPECT_EQ(zOf[0], zOf[1]);
+}
+
+// A 100 km floor at `hemibake info`'s default 5 cm elements needs 10¹³ of them: it used to bisect until the process
+// was killed for its memory. Element indices are 32-bit; more than they hold is an error before any bisection.
+TEST(Subdivision, MoreElementsThanAnIndexHoldsIsAnError) {
+    SceneBuilder b("level.gltf");
+    const int m = b.addMaterial(glm::vec3(0.5f));
+    b.addQuad({0, 0, 0}, {0, 0, 1e5}, {1e5, 0, 1e5}, {1e5, 0, 0}, m, "floor");
+    const Scene scene = b.build();
+    SubdivisionSettings s;  // 0.25 m patches, 0.05 m elements
+    try {
+        subdivide(scene, s);
+        FAIL() << "expected an InputError";
+    } catch (const InputError& e) {
+        EXPECT_EQ(std::string(e.what()).rfind("level.gltf: subdividing at element size 0.05 m (patch size 0.25 m) needs at least "
+                                              "9.2376e+12 elements, more than hemibake can index (4294967295)", 0), 0u)
+            << e.what();
+    }
+    EXPECT_THROW(countSubdivision(scene, s), InputError);
+    s.patchSizeM = s.elementSizeM = 1000.0;  // at least 23,000 elements: fine
+    EXPECT_GE(subdivide(scene, s).elements.size(), 23'000u);
 }
