@@ -13,9 +13,8 @@
 namespace hemibake {
 namespace {
 
-double nudgeAt(const glm::dvec3& p, double relative = 1e-5) {
-    return relative * (1.0 + std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)}));
-}
+// The nudge off the surface: 1e-5 × the scene's diagonal, wherever the scene sits (mesh/texels.h).
+double nudgeFor(const Scene& scene, double relative = 1e-5) { return relative * scene.bounds().diagonal(); }
 
 // Checks every texel of every atlas: row-major unique order, valid face, the un-nudged sample lies on its face,
 // the nudge is along the face normal, and the sample is the texel centre (inside) or a point on the boundary of
@@ -56,7 +55,7 @@ void expectConsistent(const Scene& scene, const UvAtlas& atlas, const std::vecto
             EXPECT_GE(std::min({b.x, b.y, b.z}), -1e-7);
             const glm::dvec3 onSurface = b.x * P[0] + b.y * P[1] + b.z * P[2];
             const glm::dvec3 offset = t.position[k] - onSurface;
-            EXPECT_NEAR(glm::dot(offset, n), nudgeAt(onSurface), 1e-9);
+            EXPECT_NEAR(glm::dot(offset, n), nudgeFor(scene), 1e-9);
             EXPECT_NEAR(glm::length(offset - glm::dot(offset, n) * n), 0.0, 1e-6);
             const glm::dvec2 sampleUv = b.x * UV[0] + b.y * UV[1] + b.z * UV[2];
             const glm::dvec2 centre(t.x[k] + 0.5, t.y[k] + 0.5);
@@ -95,7 +94,7 @@ TEST(MeshTexels, UnitQuadMatchesTheAnalyticGrid) {
         const double gi = p.x * 64.0 - 0.5, gj = p.y * 64.0 - 0.5;
         EXPECT_NEAR(gi, std::round(gi), 1e-4);
         EXPECT_NEAR(gj, std::round(gj), 1e-4);
-        EXPECT_NEAR(p.z, nudgeAt({p.x, p.y, 0.0}), 1e-12);
+        EXPECT_NEAR(p.z, nudgeFor(scene), 1e-12);
         grid.insert({int(std::lround(gi)), int(std::lround(gj))});
         byTexel[{t.x[k], t.y[k]}] = p;
     }
