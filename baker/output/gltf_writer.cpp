@@ -8,9 +8,11 @@
 #include <limits>
 #include <map>
 #include <set>
+#include <sstream>
 #include <stdexcept>
 #include <utility>
 
+#include <nlohmann/json.hpp>
 #include <tiny_gltf.h>
 
 #include "baker/output/exitant_radiance_atlas.h"
@@ -403,6 +405,48 @@ private:
 
 }  // namespace
 
+namespace {
+
+// tinygltf reads an absent camera zfar (an infinite projection) as 0 and always writes it back, and the validator
+// rejects zfar 0: drop it again from the GLB's JSON chunk.
+std::string withoutAbsentCameraFar(std::string glb) {
+    auto u32 = [&](std::size_t at) {
+        std::uint32_t v = 0;
+        std::memcpy(&v, glb.data() + at, 4);
+        return v;
+    };
+    if (glb.size() < 20 || u32(12 + 4) != 0x4E4F534Au) return glb;  // not a GLB with a JSON chunk first
+    const std::size_t jsonLength = u32(12);
+    if (20 + jsonLength > glb.size()) return glb;
+    nlohmann::json json = nlohmann::json::parse(glb.substr(20, jsonLength), nullptr, false);
+    if (json.is_discarded() || !json.contains("cameras")) return glb;
+    bool changed = false;
+    for (auto& camera : json["cameras"]) {
+        auto perspective = camera.find("perspective");
+        if (perspective == camera.end() || !perspective->is_object()) continue;
+        auto zfar = perspective->find("zfar");
+        if (zfar != perspective->end() && zfar->is_number() && zfar->get<double>() == 0.0) {
+            perspective->erase(zfar);
+            changed = true;
+        }
+    }
+    if (!changed) return glb;
+    std::string text = json.dump();
+    while (text.size() % 4) text += ' ';
+    std::string out = glb.substr(0, 12);
+    const std::string rest = glb.substr(20 + jsonLength);
+    const auto put = [&](std::size_t at, std::uint32_t v) { std::memcpy(out.data() + at, &v, 4); };
+    out.resize(20);
+    put(12, std::uint32_t(text.size()));
+    put(16, 0x4E4F534Au);
+    out += text;
+    out += rest;
+    put(8, std::uint32_t(out.size()));
+    return out;
+}
+
+}  // namespace
+
 GltfWriteOptions::Mode parseGltfMode(const std::string& name) {
     if (name == "lightmap") return GltfWriteOptions::Mode::Lightmap;
     if (name == "emissive") return GltfWriteOptions::Mode::Emissive;
@@ -436,12 +480,15 @@ std::vector<BakedPrimitive> writeLightmappedGlb(const std::string& inputPath, co
     GlbBuilder builder(model, inputPath, scene, atlas, lightmaps, options);
     std::vector<BakedPrimitive> entries = builder.build();
 
+    std::ostringstream glb;
+    tinygltf::TinyGLTF writer;
+    if (!writer.WriteGltfSceneToStream(&model, glb, false, true))
+        throw std::runtime_error(outGlb.string() + ": tinygltf could not serialize the scene");
+    const std::string bytes = withoutAbsentCameraFar(glb.str());
     writeAtomically(outGlb, [&](const fs::path& temp) {
         std::ofstream out(temp, std::ios::binary | std::ios::trunc);
         if (!out) throw std::runtime_error(outGlb.string() + ": cannot open for writing");
-        tinygltf::TinyGLTF writer;
-        if (!writer.WriteGltfSceneToStream(&model, out, false, true))
-            throw std::runtime_error(outGlb.string() + ": tinygltf could not serialize the scene");
+        out.write(bytes.data(), std::streamsize(bytes.size()));
         out.close();
         if (!out) throw std::runtime_error(outGlb.string() + ": cannot write");
     });

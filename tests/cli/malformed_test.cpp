@@ -51,5 +51,8 @@ TEST(CliMalformed, BakeFailsWithOneLineNamingFileAndProblem) {
         EXPECT_FALSE(fs::exists(out)) << "output directory left behind";
         ++checked;
     }
-    EXPECT_GE(checked, 26);
+    int entries = 0;
+    for (const auto& [name, problem] : expected.items()) entries += name.front() == '_' ? 0 : 1;
+    EXPECT_EQ(checked, entries);  // every file listed was baked and checked
+    EXPECT_GE(checked, 25);
 }
