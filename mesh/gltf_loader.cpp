@@ -368,12 +368,6 @@ private:
         scene_.lights.push_back(l);
     }
 
-    static std::string formatMetres(double m) {
-        std::ostringstream o;
-        o << m << " m";
-        return o.str();
-    }
-
     struct PrimitiveCounts {
         std::size_t triangles = 0;  // triangles in the primitive
         std::size_t collapsed = 0;  // of those, with area in the mesh's own frame and none in world space
