@@ -47,6 +47,7 @@ ProgressiveShooter::ProgressiveShooter(const PatchMesh& mesh, RadiositySolution&
     : mesh_(mesh), solution_(solution), pool_(pool), settings_(settings), queue_(mesh.patches.size()),
       scratch_(std::make_unique<tbb::enumerable_thread_specific<MergeScratch>>()),
       cache_(std::make_unique<FormFactorCache>(mesh.patches.size(), std::size_t(settings.formFactorCacheMiB * 1048576.0))) {
+    shotOnce_.assign(mesh.patches.size(), false);
     for (const glm::vec3& rho : mesh.elements.reflectance)
         maxReflectance_ = std::max({maxReflectance_, double(rho.x), double(rho.y), double(rho.z)});
 }
@@ -169,6 +170,7 @@ void ProgressiveShooter::applyShot(const Shot& shot) {
         const std::uint32_t p = el.patch[row.elements[k]];
         queue_.set(p, channelSum(solution_.unshotRadiosity[p]) * mesh_.patches.areaM2[p]);
     }
+    shotOnce_[shot.patch] = true;
     ledger_.escapedW += powerW * row.skyFraction;
     ledger_.backfaceW += powerW * row.backfaceFraction;
     ++ledger_.shots;
@@ -209,11 +211,21 @@ ProgressiveShooter::LocalBound ProgressiveShooter::localBound(double epsilon) co
     const PatchArrays& pa = mesh_.patches;
     LocalBound bound;
     const std::vector<glm::dvec3> pendingW = pendingIrradiance(&bound.unknownPatches);
-    std::vector<double> pending(el.size(), 0.0);
-    for (std::size_t e = 0; e < el.size(); ++e) pending[e] = channelSum(pendingW[e]);
     std::vector<std::uint32_t> unshot;
-    for (std::uint32_t p = 0; p < pa.size(); ++p)
-        if (channelSum(solution_.unshotRadiosity[p]) > 0.0) unshot.push_back(p);
+    // A patch whose row is not cached (the cache budget is full) still bounds what it can deliver: by reciprocity
+    // the irradiance it gives element e is ΔB_p·F_ep ≤ ΔB_p, at every element.
+    double unknownRadiosity = 0.0;
+    for (std::uint32_t p = 0; p < pa.size(); ++p) {
+        const double deltaB = channelSum(solution_.unshotRadiosity[p]);
+        if (!(deltaB > 0.0)) continue;
+        unshot.push_back(p);
+        if (!cache_->find(p) && shotOnce_[p]) unknownRadiosity += deltaB;
+    }
+    // Only elements that have received light take that bound: an uncached patch has shot once already, and an
+    // element it never reached is not held open by it (else a sealed dark room would never converge).
+    std::vector<double> pending(el.size(), 0.0);
+    for (std::size_t e = 0; e < el.size(); ++e)
+        pending[e] = channelSum(pendingW[e]) + (channelSum(solution_.irradiance[e]) > 0.0 ? unknownRadiosity : 0.0);
     // Relative to what the element has, with the bounces still to come; 0/0 (nothing has arrived and nothing
     // will) is converged, x/0 is not.
     const double bounces = 1.0 / std::max(1.0 - maxReflectance_, 1e-12);
@@ -235,14 +247,20 @@ ProgressiveShooter::LocalBound ProgressiveShooter::localBound(double epsilon) co
         if (bound.p95 == 0.0 && area >= 0.95 * totalArea) bound.p95 = relative[e];
     }
     bound.max = order.empty() ? 0.0 : relative[order.back()];
-    if (bound.unknownPatches > 0) bound.max = std::numeric_limits<double>::infinity();
+    for (std::uint32_t p : unshot)
+        if (!shotOnce_[p]) bound.max = std::numeric_limits<double>::infinity();
     if (bound.max <= epsilon) return bound;
+    // The least irradiance among the elements still over the bound: where an uncached patch's ΔB_p weighs most.
+    double leastHave = std::numeric_limits<double>::infinity();
+    for (std::size_t e = 0; e < el.size(); ++e)
+        if (relative[e] > epsilon) leastHave = std::min(leastHave, channelSum(solution_.irradiance[e]));
 
     // Each unshot patch's own share of the bound where it is largest; unknown rows first.
     std::vector<std::pair<double, std::uint32_t>> share;
     for (std::uint32_t p : unshot) {
         const FormFactorRow* row = cache_->find(p);
-        double worst = std::numeric_limits<double>::infinity();
+        double worst = shotOnce_[p] && leastHave > 0.0 ? bounces * channelSum(solution_.unshotRadiosity[p]) / leastHave
+                                                      : std::numeric_limits<double>::infinity();
         if (row) {
             worst = 0.0;
             const double deltaB = channelSum(solution_.unshotRadiosity[p]);

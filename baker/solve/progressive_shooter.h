@@ -47,7 +47,8 @@ public:
 
     // The local error bound: per element e, the irradiance still to arrive at it, H_pending(e) = Σ_p ΔB_p·F_pe·A_p/A_e
     // over the unshot patches (first bounce, through their cached form-factor rows), over (1 − ρ_max)·H(e), its
-    // irradiance so far. A patch with unshot radiosity and no row yet could reach anything: it must shoot.
+    // irradiance so far. A patch that has never shot could reach anything: it must shoot; one that has shot but whose
+    // row did not fit the cache bounds each lit element's gain by its ΔB (F_ep ≤ 1).
     struct LocalBound {
         double max = 0.0, p95 = 0.0, median = 0.0;  // over elements, area-weighted
         std::size_t unknownPatches = 0;              // unshot patches without a row
@@ -91,6 +92,7 @@ private:
     double maxReflectance_ = 0.0;
     double exitanceW_ = 0.0;  // kept up to date by every injection and shot
     LocalBound finalBound_;
+    std::vector<bool> shotOnce_;  // per patch: has shot (its row may not be cached)
     std::unique_ptr<tbb::enumerable_thread_specific<MergeScratch>> scratch_;
     std::unique_ptr<FormFactorCache> cache_;
 };
