@@ -31,6 +31,7 @@ struct BakeOptions {
     std::vector<float> sky;
     float sunDiameterDeg = 0.0f;
     bool noAmbient = false;
+    bool separateSides = false;
     bool noPreview = false;
     int threads = 0;
     std::uint64_t seed = 1;
@@ -72,6 +73,7 @@ BakeSettings resolveSettings(const BakeOptions& o, double sceneDiagonalM) {
     if (o.emitters) lighting.emitters = parseEmitterLighting(*o.emitters);
     override(o.emitterSamples, lighting.emitterSamples);
     solver.ambientCorrection = !o.noAmbient;
+    s.solve.sides.enabled = o.separateSides;
     solver.threads = o.threads;
     solver.seed = o.seed;
     if (o.sky.size() == 3) lighting.skyRadiance = glm::vec3(o.sky[0], o.sky[1], o.sky[2]);
@@ -164,6 +166,9 @@ CommandRunner addBakeCommand(CLI::App& app) {
         ->check(CLI::Range(0.0, 10.0));
     cmd->add_flag("--no-ambient", o->noAmbient, "Do not add the ambient term for still-unshot light (its next bounce, where "
                                                 "it will arrive, and the bounces after it)");
+    cmd->add_flag("--separate-sides", o->separateSides,
+                  "Experimental: bisect elements that straddle a wall standing on their face (a slab under two rooms) "
+                  "and split patches by side, so no light crosses the wall's footprint (issue 15: costly on levels)");
     cmd->add_option("--sky", o->sky, "Uniform sky radiance R,G,B in W·m⁻²·sr⁻¹ seen where rays escape")->delimiter(',')->expected(3);
     cmd->add_option("--sun-diameter", o->sunDiameterDeg, "Angular diameter of directional lights in degrees (0.53 = the sun; "
                                                          "0 = hard shadows)")->check(CLI::Range(0.0, 30.0));

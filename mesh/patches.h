@@ -55,6 +55,11 @@ struct PatchMesh {
     double sceneDiagonalM = 0.0;
 };
 
+// Recomputes patch p's area, centroid, normal and area-weighted reflectance and emission from its elements, as
+// mesh/subdivision.cpp forms them (after elements change area or move between patches). Not thread-safe for
+// the same patch.
+void recomputePatchSums(PatchMesh& mesh, std::size_t p);
+
 struct SubdivisionSettings {
     double patchSizeM = 0.25;         // longest edge of a shooting patch
     double elementSizeM = 0.05;       // longest edge of a receiving element (≤ patch size)

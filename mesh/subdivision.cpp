@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <limits>
 #include <sstream>
+#include <map>
 #include <unordered_map>
 
 #include "mesh/errors.h"
@@ -28,41 +29,56 @@ struct RefinedInstance {
     int patchCount = 0;
 };
 
-// Finds, for a point, the finest size any refinement region containing it asks for (0 = none).
+// Finds, for a point, the finest size any refinement region containing it asks for (0 = none). Regions are
+// hashed into grids by size class (radius within a factor of 2), each with cells of twice its largest radius, so
+// a lookup visits 27 cells per class and only regions of about the cell's size: wall-side refinement makes many
+// small regions beside a few large ones, and one grid sized for the largest would scan them all.
 class RefinementLookup {
 public:
     explicit RefinementLookup(const RefinementRequest* request) {
         if (!request) return;
-        for (const auto& r : request->regions) cellM_ = std::max(cellM_, 2.0 * r.radiusM);
-        for (std::size_t i = 0; request && i < request->regions.size(); ++i) {
-            const glm::dvec3& c = request->regions[i].centre;
-            grid_[key(cell(c.x), cell(c.y), cell(c.z))].push_back(i);
-        }
         regions_ = &request->regions;
+        std::map<int, std::vector<std::size_t>> byClass;
+        for (std::size_t i = 0; i < regions_->size(); ++i) {
+            const double r = (*regions_)[i].radiusM;
+            byClass[r > 0.0 && std::isfinite(r) ? std::ilogb(r) : std::numeric_limits<int>::min()].push_back(i);
+        }
+        for (const auto& [sizeClass, members] : byClass) {
+            Grid g;
+            for (std::size_t i : members) g.cellM = std::max(g.cellM, 2.0 * (*regions_)[i].radiusM);
+            for (std::size_t i : members) {
+                const glm::dvec3& c = (*regions_)[i].centre;
+                g.cells[key(g.cell(c.x), g.cell(c.y), g.cell(c.z))].push_back(i);
+            }
+            grids_.push_back(std::move(g));
+        }
     }
     double sizeAt(const glm::dvec3& p) const {
-        if (!regions_) return 0.0;
         double size = 0.0;
-        for (std::int64_t x = cell(p.x) - 1; x <= cell(p.x) + 1; ++x)
-            for (std::int64_t y = cell(p.y) - 1; y <= cell(p.y) + 1; ++y)
-                for (std::int64_t z = cell(p.z) - 1; z <= cell(p.z) + 1; ++z) {
-                    auto it = grid_.find(key(x, y, z));
-                    if (it == grid_.end()) continue;
-                    for (std::size_t i : it->second) {
-                        const auto& r = (*regions_)[i];
-                        if (glm::length(p - r.centre) <= r.radiusM && (size == 0.0 || r.sizeM < size)) size = r.sizeM;
+        for (const Grid& g : grids_)
+            for (std::int64_t x = g.cell(p.x) - 1; x <= g.cell(p.x) + 1; ++x)
+                for (std::int64_t y = g.cell(p.y) - 1; y <= g.cell(p.y) + 1; ++y)
+                    for (std::int64_t z = g.cell(p.z) - 1; z <= g.cell(p.z) + 1; ++z) {
+                        auto it = g.cells.find(key(x, y, z));
+                        if (it == g.cells.end()) continue;
+                        for (std::size_t i : it->second) {
+                            const auto& r = (*regions_)[i];
+                            if (glm::length(p - r.centre) <= r.radiusM && (size == 0.0 || r.sizeM < size)) size = r.sizeM;
+                        }
                     }
-                }
         return size;
     }
 
 private:
-    std::int64_t cell(double x) const { return std::int64_t(std::floor(x / cellM_)); }
+    struct Grid {
+        double cellM = 1e-12;
+        std::unordered_map<std::uint64_t, std::vector<std::size_t>> cells;
+        std::int64_t cell(double x) const { return std::int64_t(std::floor(x / cellM)); }
+    };
     static std::uint64_t key(std::int64_t x, std::int64_t y, std::int64_t z) {
         return std::uint64_t(x) * 0x9E3779B97F4A7C15ull ^ std::uint64_t(y) * 0xC2B2AE3D27D4EB4Full ^ std::uint64_t(z) * 0x165667B19E3779F9ull;
     }
-    double cellM_ = 1e-12;
-    std::unordered_map<std::uint64_t, std::vector<std::size_t>> grid_;
+    std::vector<Grid> grids_;
     const std::vector<RefinementRequest::Region>* regions_ = nullptr;
 };
 
@@ -190,7 +206,10 @@ std::size_t bisectLongEdges(SurfaceMesh& mesh, double maxEdgeM) {
 
 std::size_t bisectLongEdges(SurfaceMesh& mesh, const std::function<double(const glm::dvec3&)>& maxEdgeForFace) {
     std::size_t splits = 0;
-    for (bool changed = true; changed;) {
+    // Each pass at least halves the longest edges it splits, so 64 passes cover a 2^32 range of lengths; the cap
+    // only matters for a face the split cannot shrink (a degenerate one), which would otherwise loop forever.
+    int passes = 0;
+    for (bool changed = true; changed && passes < 64; ++passes) {
         changed = false;
         const std::size_t faceCount = mesh.n_faces();  // faces created in this pass are visited in the next
         for (std::size_t i = 0; i < faceCount; ++i) {
@@ -211,6 +230,14 @@ std::size_t bisectLongEdges(SurfaceMesh& mesh, const std::function<double(const 
                 }
             }
             if (!longest.is_valid()) continue;
+            // A face with two coincident corners keeps its longest edge through any number of splits (the split
+            // makes a copy of itself); splitting it only adds faces.
+            {
+                const auto h0 = mesh.halfedge_handle(f), h1 = mesh.next_halfedge_handle(h0);
+                const OpenMesh::Vec3d p0 = mesh.point(mesh.from_vertex_handle(h0)), p1 = mesh.point(mesh.to_vertex_handle(h0)),
+                                      p2 = mesh.point(mesh.to_vertex_handle(h1));
+                if (!(OpenMesh::cross(p1 - p0, p2 - p0).sqrnorm() > 1e-24 * longest2 * longest2)) continue;
+            }
             const auto a = mesh.from_vertex_handle(longest), b = mesh.to_vertex_handle(longest);
             const auto mid = mesh.add_vertex(0.5 * (mesh.point(a) + mesh.point(b)));
             auto n = mesh.normal(a) + mesh.normal(b);

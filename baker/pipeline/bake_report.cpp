@@ -92,6 +92,12 @@ nlohmann::json BakeReport::toJson() const {
     j["exposedArea"] = {{"elementsTrimmed", exposedArea.elementsTrimmed},
                         {"elementsCovered", exposedArea.elementsCovered},
                         {"areaRemovedM2", exposedArea.areaRemovedM2}};
+    j["sides"] = {{"levels", sides.levels},
+                  {"regions", sides.regions},
+                  {"straddlingElementsLeft", sides.straddlingElementsLeft},
+                  {"patchesSplit", sides.patchesSplit},
+                  {"patchesAdded", sides.patchesAdded},
+                  {"seconds", sides.seconds}};
     j["refinement"] = {{"elementsBefore", refinement.elementsBefore},
                        {"elementsAfter", refinement.elementsAfter},
                        {"regions", refinement.regions}};

@@ -14,6 +14,7 @@
 #include "baker/pipeline/bake_settings.h"
 #include "baker/solve/exposed_area.h"
 #include "baker/solve/radiosity_solver.h"
+#include "baker/solve/separate_sides.h"
 
 namespace hemibake {
 
@@ -67,6 +68,7 @@ struct BakeReport {
     std::vector<std::string> warnings;
     SolveReport solve;
     ExposedAreaReport exposedArea;
+    SideSeparationReport sides;
     RefinementReport refinement;
     std::optional<LightmapReport> lightmap;
     std::vector<BakedPrimitive> primitives;

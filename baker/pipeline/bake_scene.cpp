@@ -105,6 +105,7 @@ private:
         report.patches = solved.mesh.patches.size();
         report.elements = solved.mesh.elements.size();
         report.exposedArea = solved.exposedArea;
+        report.sides = solved.sides;
         report.refinement = {solved.elementsBeforeRefinement, solved.mesh.elements.size(), solved.refinementRegions};
         std::size_t emitting = 0;
         for (const glm::vec3& l : solved.mesh.elements.emittedRadiance) emitting += (l.x > 0.0f || l.y > 0.0f || l.z > 0.0f);

@@ -37,6 +37,10 @@ void visitKnobs(BakeSettings& s, Visitor&& v) {
     v("exposureHorizonRays", ex.horizonRays);
     v("exposureHorizonElevationRad", ex.horizonElevationRad);
     v("exposureMinFraction", ex.minFraction);
+    v("separateSides", s.solve.sides.enabled);
+    v("sidesSamplesPerSide", s.solve.sides.samplesPerSide);
+    v("sidesMinEdgeFraction", s.solve.sides.minEdgeFraction);
+    v("sidesLiftFraction", s.solve.sides.liftFraction);
     // Solve: the solver and adaptive refinement.
     v("solver", Enum<SolverKind>{so.kind, solverKindName, parseSolverKind});
     v("hemicubeResolution", so.hemicubeResolution);

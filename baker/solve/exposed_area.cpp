@@ -132,9 +132,8 @@ ExposedAreaReport applyExposedAreas(const Scene& scene, const EmbreeScene& rays,
                                     const ExposedAreaSettings& settings) {
     const ElementExposure exposure = measureExposure(scene, rays, mesh, settings);
     ElementArrays& el = mesh.elements;
-    PatchArrays& pa = mesh.patches;
     ExposedAreaReport report;
-    std::vector<std::uint8_t> patchChanged(pa.size(), 0);
+    std::vector<std::uint8_t> patchChanged(mesh.patches.size(), 0);
     for (std::size_t e = 0; e < el.size(); ++e) {
         const double fraction = exposure.fraction[e];
         if (fraction >= 1.0) continue;
@@ -147,26 +146,8 @@ ExposedAreaReport applyExposedAreas(const Scene& scene, const EmbreeScene& rays,
         patchChanged[el.patch[e]] = 1;
     }
     // Patch sums as mesh/subdivision.cpp forms them, over the exposed areas.
-    for (std::size_t p = 0; p < pa.size(); ++p) {
-        if (!patchChanged[p]) continue;
-        double patchArea = 0.0;
-        glm::dvec3 areaCentroid(0.0), areaNormal(0.0), areaRho(0.0), areaLe(0.0);
-        const std::size_t first = pa.firstElement[p], end = first + pa.elementCount[p];
-        for (std::size_t e = first; e < end; ++e) {
-            const double area = el.areaM2[e];
-            patchArea += area;
-            areaCentroid += area * el.centroid[e];
-            areaNormal += area * glm::dvec3(el.normal[e]);
-            areaRho += area * glm::dvec3(el.reflectance[e]);
-            areaLe += area * glm::dvec3(el.emittedRadiance[e]);
-        }
-        const double nLen = glm::length(areaNormal);
-        pa.areaM2[p] = patchArea;
-        pa.centroid[p] = areaCentroid / patchArea;
-        if (nLen > 0.0) pa.normal[p] = glm::vec3(areaNormal / nLen);
-        pa.reflectance[p] = glm::vec3(areaRho / patchArea);
-        pa.emittedRadiance[p] = glm::vec3(areaLe / patchArea);
-    }
+    for (std::size_t p = 0; p < mesh.patches.size(); ++p)
+        if (patchChanged[p]) recomputePatchSums(mesh, p);
     return report;
 }
 

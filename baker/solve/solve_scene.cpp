@@ -15,7 +15,7 @@ std::unique_ptr<SolvedScene> solveScene(const Scene& scene, const SolveSettings&
     // Subdivides (with `request`'s refinement regions), trims to exposed areas and solves from scratch.
     auto subdivideAndSolve = [&](const RefinementRequest* request) {
         solved.pool.reset();
-        solved.mesh = subdivide(scene, settings.subdivision, request);
+        solved.mesh = subdivideApart(scene, rays, settings.subdivision, request, settings.sides, &solved.sides);
         solved.exposedArea = applyExposedAreas(scene, rays, solved.mesh, settings.exposure);
         solved.pool = std::make_unique<HemicubePool>(solved.mesh, settings.solver.hemicubeResolution);
         solved.report = solveRadiosity(scene, solved.mesh, settings, *solved.pool, rays, solved.solution, progress);

@@ -1,10 +1,11 @@
 #pragma once
-// The solve stage's entry point: subdivide the scene, trim elements to their exposed area, solve, and refine
+// The solve stage's entry point: subdivide the scene (no element or patch straddling a wall), trim elements to their exposed area, solve, and refine
 // where radiosity steps (settings.adaptive). What later stages need of the solve is in SolvedScene.
 #include <memory>
 
 #include "baker/solve/exposed_area.h"
 #include "baker/solve/radiosity_solver.h"
+#include "baker/solve/separate_sides.h"
 #include "baker/solve/solve_settings.h"
 #include "mesh/patches.h"
 
@@ -21,6 +22,7 @@ struct SolvedScene {
     std::size_t elementsBeforeRefinement = 0;
     std::size_t refinementRegions = 0;
     ExposedAreaReport exposedArea;  // of the final mesh
+    SideSeparationReport sides;     // of the final mesh
     SolvedScene();
     ~SolvedScene();
     // Pinned: `pool` points at `mesh`, so moving it would leave the pool reading a moved-from mesh.
