@@ -248,13 +248,20 @@ def pillar(mb, rng, room, segments):
     return True
 
 
-def staircase(mb, rng, room):
+def place_staircase(rng, room):
+    """Draws a staircase's size and place (the same draws in both modes); None when the room has no space."""
     steps = rng.randint(5, 8)
     rise, run, width, platform = 0.18, 0.28, rng.uniform(0.9, 1.2), 1.2
     length = steps * run + platform
     r = room.place(rng, length, width, margin=0.6)
-    if not r:
+    return (steps, rise, run, width, platform, r) if r else None
+
+
+def staircase(mb, rng, room):
+    placed = place_staircase(rng, room)
+    if not placed:
         return False
+    steps, rise, run, width, platform, r = placed
     stairs(mb, "x", r[0], r[1], width, steps, rise, run, platform)
     return True
 
@@ -569,12 +576,10 @@ def pillar_clean(mb, rng, room, segments):
 
 
 def staircase_clean(mb, rng, room):
-    steps = rng.randint(5, 8)
-    rise, run, width, platform = 0.18, 0.28, rng.uniform(0.9, 1.2), 1.2
-    length = steps * run + platform
-    r = room.place(rng, length, width, margin=0.6)
-    if not r:
+    placed = place_staircase(rng, room)
+    if not placed:
         return False
+    steps, rise, run, width, platform, r = placed
     u0, w0 = r[0], r[1]
     w1 = w0 + width
     us = [u0 + k * run for k in range(steps + 1)] + [u0 + steps * run + platform]
