@@ -188,35 +188,81 @@ class Room:
         return None
 
 
+# Props draw their sizes and places the same way in both modes (place_*: None when the room has no space), so a
+# seed gives the same floor plan; only how the parts meet differs.
+TABLE_H = 0.75
+
+
+def place_table(rng, room):
+    w, d = rng.uniform(1.2, 2.0), rng.uniform(0.7, 1.0)
+    return room.place(rng, w, d)
+
+
+def table_legs(r):
+    """The four 7 cm legs of a table over rectangle r, as (x0, x1, z0, z1)."""
+    return [(lx, lx + 0.07, lz, lz + 0.07) for lx, lz in (
+        (r[0] + 0.05, r[1] + 0.05), (r[2] - 0.12, r[1] + 0.05), (r[0] + 0.05, r[3] - 0.12), (r[2] - 0.12, r[3] - 0.12))]
+
+
+TOP_CRATE = 0.6  # a crate stacked on another is this × its size
+
+
+def place_crate(rng, room):
+    """(size, rectangle, top) with top the smaller crate's rectangle on it (x0, x1, z0, z1) or None."""
+    s = rng.uniform(0.5, 0.9)
+    r = room.place(rng, s, s)
+    if not r:
+        return None
+    top = None
+    if rng.random() < 0.5:
+        t = s * TOP_CRATE
+        x, z = r[0] + rng.uniform(0.02, s - t - 0.02), r[1] + rng.uniform(0.02, s - t - 0.02)
+        top = (x, x + t, z, z + t)
+    return s, r, top
+
+
+def place_shelf(rng, room):
+    return room.place(rng, rng.uniform(1.2, 2.2), 0.4)
+
+
+def place_pillar(rng, room):
+    """(radius, footprint square) or None."""
+    rad = rng.uniform(0.2, 0.3)
+    r = room.place(rng, 2 * rad, 2 * rad, margin=1.2, tall=True)
+    return (rad, r) if r else None
+
+
 def table(mb, rng, room):
-    w, d, h = rng.uniform(1.2, 2.0), rng.uniform(0.7, 1.0), 0.75
-    r = room.place(rng, w, d)
+    r = place_table(rng, room)
     if not r:
         return False
+    h = TABLE_H
     mb.box(MAT["wood"], (r[0], h - 0.05, r[1]), (r[2], h, r[3]))
-    for lx, lz in ((r[0] + 0.05, r[1] + 0.05), (r[2] - 0.12, r[1] + 0.05), (r[0] + 0.05, r[3] - 0.12), (r[2] - 0.12, r[3] - 0.12)):
-        mb.box(MAT["wood"], (lx, -PEN_PROP, lz), (lx + 0.07, h - 0.03, lz + 0.07))  # legs end inside the top
+    for x0, x1, z0, z1 in table_legs(r):
+        mb.box(MAT["wood"], (x0, -PEN_PROP, z0), (x1, h - 0.03, z1))  # legs end inside the top
     return True
 
 
 def crates(mb, rng, room):
-    s = rng.uniform(0.5, 0.9)
-    r = room.place(rng, s, s)
-    if not r:
+    placed = place_crate(rng, room)
+    if not placed:
         return False
+    s, r, top = placed
     mb.box(MAT["crate"], (r[0], -PEN_PROP, r[1]), (r[2], s, r[3]))
-    if rng.random() < 0.5:  # a smaller crate on top, sunk 1 cm into the lower one
-        t = s * 0.6
-        x, z = r[0] + rng.uniform(0.02, s - t - 0.02), r[1] + rng.uniform(0.02, s - t - 0.02)
-        mb.box(MAT["crate"], (x, s - 0.01, z), (x + t, s - 0.01 + t, z + t))
+    if top:  # a smaller crate on top, sunk 1 cm into the lower one
+        t = s * TOP_CRATE
+        mb.box(MAT["crate"], (top[0], s - 0.01, top[2]), (top[1], s - 0.01 + t, top[3]))
     return True
 
 
+SHELF_H = 2.0
+
+
 def shelf(mb, rng, room):
-    w, d, h = rng.uniform(1.2, 2.2), 0.4, 2.0
-    r = room.place(rng, w, d)
+    r = place_shelf(rng, room)
     if not r:
         return False
+    h = SHELF_H
     mb.box(MAT["wood"], (r[0], -PEN_PROP, r[1]), (r[0] + 0.04, h, r[3]))
     mb.box(MAT["wood"], (r[2] - 0.04, -PEN_PROP, r[1]), (r[2], h, r[3]))
     boards = 4
@@ -240,10 +286,10 @@ def shelf(mb, rng, room):
 
 
 def pillar(mb, rng, room, segments):
-    rad = rng.uniform(0.2, 0.3)
-    r = room.place(rng, 2 * rad, 2 * rad, margin=1.2, tall=True)
-    if not r:
+    placed = place_pillar(rng, room)
+    if not placed:
         return False
+    rad, r = placed
     mb.cylinder(MAT["concrete"], (r[0] + r[2]) / 2, (r[1] + r[3]) / 2, rad, -PEN_PILLAR, HEIGHT + PEN_PILLAR, segments)
     return True
 
@@ -266,6 +312,22 @@ def staircase(mb, rng, room):
     return True
 
 
+def furnish(mb, rng, room, segments, makers, room_left):
+    """A room's props, the same draws in both modes: a staircase (60 %), 0–2 pillars, then tables, crates, shelves
+    and pillars at random while room_left() (the triangle budget) and until 40 of them found no space."""
+    staircase_maker, pillar_maker, table_maker, crates_maker, shelf_maker = makers
+    if rng.random() < 0.6:
+        staircase_maker(mb, rng, room)
+    for _ in range(rng.randint(0, 2)):
+        pillar_maker(mb, rng, room, segments)
+    choices = (table_maker, crates_maker, crates_maker, shelf_maker, shelf_maker, pillar_maker)
+    failures = 0
+    while room_left() and failures < 40:
+        maker = rng.choice(choices)
+        ok = maker(mb, rng, room, segments) if maker is pillar_maker else maker(mb, rng, room)
+        failures += 0 if ok else 1
+
+
 def panel(mb, x, z, w, d):
     # Hangs 5 cm below the ceiling: a floating closed box, no face shared with the slab.
     mb.box(MAT["panel"], (x - w / 2, HEIGHT - 0.1, z - d / 2), (x + w / 2, HEIGHT - 0.05, z + d / 2))
@@ -275,6 +337,54 @@ def windows_along(a0, a1):
     n = max(1, int((a1 - a0) // 3.5))
     step = (a1 - a0) / n
     return [(a0 + step * (k + 0.5) - 0.7, a0 + step * (k + 0.5) + 0.7, 0.9, 2.2) for k in range(n)]
+
+
+def draw_openings(rng, xs, bands, cols, door_bottom, windowless=None):
+    """The doorways and windows, drawn in one fixed order for both modes: xopen[k] in the x-wall on band boundary k
+    as (ua, ub, ya, yb), u along x; zopen[(b, c)] in the z-wall at xs[c] across band b, u along z (only walls that
+    exist: interior z-walls of a corridor do not). Doors start at door_bottom (below the floor where they are cut
+    through a slab); band `windowless` (a corridor) gets no window at its ends."""
+    xopen = []
+    for k in range(len(bands) + 1):
+        below = bands[k - 1] if k > 0 else None
+        above = bands[k] if k < len(bands) else None
+        openings = []
+        for c in range(cols):
+            a0, a1 = xs[c] + 0.8, xs[c + 1] - 0.8
+            if below is None or above is None:
+                openings += windows_along(a0, a1)
+            elif "corridor" in (below[2], above[2]):
+                u = rng.uniform(a0, a1 - 1.2)
+                openings.append((u, u + 1.2, door_bottom, 2.1))
+            elif rng.random() < 0.5:  # back-to-back rooms: sometimes a connecting door
+                u = rng.uniform(a0, a1 - 1.0)
+                openings.append((u, u + 1.0, door_bottom, 2.1))
+        xopen.append(openings)
+    zopen = {}
+    for b, (z0, z1, kind, _) in enumerate(bands):
+        for c in range(cols + 1):
+            outer = c in (0, cols)
+            if not outer and kind == "corridor":
+                continue
+            openings = []
+            if outer:
+                if kind == "room":
+                    openings = windows_along(z0 + 0.6, z1 - 0.6)
+                elif b != windowless:
+                    openings = [((z0 + z1) / 2 - 0.6, (z0 + z1) / 2 + 0.6, 0.9, 2.2)]
+            elif rng.random() < 0.4:
+                u = rng.uniform(z0 + 0.8, z1 - 1.8)
+                openings.append((u, u + 1.0, door_bottom, 2.1))
+            zopen[(b, c)] = openings
+    return xopen, zopen
+
+
+def emit(nodes, meshes, name, mb):
+    """Adds mb as a mesh and a node named `name` (nothing when it is empty); returns its triangle count."""
+    if mb.groups:
+        meshes.append((name, mb))
+        nodes.append({"name": name, "mesh": len(meshes) - 1})
+    return mb.triangles
 
 
 def layout(rng, target):
@@ -309,51 +419,24 @@ def generate(seed, target):
 
     nodes, meshes = [], []
 
-    def emit(name, mb):
-        if mb.groups:
-            meshes.append((name, mb))
-            nodes.append({"name": name, "mesh": len(meshes) - 1})
-        return mb.triangles
-
     triangles = 0
     shell = MeshBuilder()
     ov = 0.1  # slabs reach 10 cm past the outer walls' faces, so their sides never line up with a wall face
     shell.box(MAT["floor"], (xmin - WALL_T / 2 - ov, -0.2, zmin - WALL_T / 2 - ov), (xmax + WALL_T / 2 + ov, 0.0, zmax + WALL_T / 2 + ov))
     shell.box(MAT["ceiling"], (xmin - WALL_T / 2 - ov, HEIGHT, zmin - WALL_T / 2 - ov), (xmax + WALL_T / 2 + ov, HEIGHT + 0.2, zmax + WALL_T / 2 + ov))
 
+    # Doors run 1 m down into the floor slab (cut through it, as artists do).
+    xopen, zopen = draw_openings(rng, xs, bands, cols, -1.0)
     # x-walls: one per band boundary, full length (their ends cover the corners).
-    for b in range(len(bands) + 1):
-        zc = bands[0][0] if b == 0 else bands[b - 1][1]
-        below = bands[b - 1] if b > 0 else None
-        above = bands[b] if b < len(bands) else None
-        openings = []
-        exterior = below is None or above is None
-        for c in range(cols):
-            a0, a1 = xs[c] + 0.8, xs[c + 1] - 0.8
-            if exterior:
-                openings += windows_along(a0, a1)
-            elif "corridor" in (below[2], above[2]):
-                u = rng.uniform(a0, a1 - 1.2)
-                openings.append((u, u + 1.2, -1.0, 2.1))
-            elif rng.random() < 0.5:  # back-to-back rooms: sometimes a connecting door
-                u = rng.uniform(a0, a1 - 1.0)
-                openings.append((u, u + 1.0, -1.0, 2.1))
+    for k, openings in enumerate(xopen):
+        zc = bands[0][0] if k == 0 else bands[k - 1][1]
         wall(shell, "x", zc, xmin - WALL_T / 2, xmax + WALL_T / 2, PEN_XWALL, openings)
     # z-walls: segments between adjacent x-walls, sunk 0.4 × thickness into them (not to their middle, so two
     # segments meeting one x-wall from both sides never share an end face).
     sink = 0.4 * WALL_T
-    for b, (z0, z1, kind, _) in enumerate(bands):
-        for c in range(cols + 1):
-            outer = c in (0, cols)
-            if not outer and kind == "corridor":
-                continue
-            openings = []
-            if outer:
-                openings = windows_along(z0 + 0.6, z1 - 0.6) if kind == "room" else [((z0 + z1) / 2 - 0.6, (z0 + z1) / 2 + 0.6, 0.9, 2.2)]
-            elif rng.random() < 0.4:
-                u = rng.uniform(z0 + 0.8, z1 - 1.8)
-                openings.append((u, u + 1.0, -1.0, 2.1))
-            wall(shell, "z", xs[c], z0 + WALL_T / 2 - sink, z1 - WALL_T / 2 + sink, PEN_ZWALL, openings)
+    for (b, c), openings in zopen.items():
+        z0, z1 = bands[b][0], bands[b][1]
+        wall(shell, "z", xs[c], z0 + WALL_T / 2 - sink, z1 - WALL_T / 2 + sink, PEN_ZWALL, openings)
     # Corridor lights.
     for z0, z1, kind, _ in bands:
         if kind != "corridor":
@@ -361,7 +444,7 @@ def generate(seed, target):
         n = max(1, round((xmax - xmin) / 6))
         for k in range(n):
             panel(shell, xmin + (xmax - xmin) * (k + 0.5) / n, (z0 + z1) / 2, 1.0, 0.4)
-    triangles += emit("shell", shell)
+    triangles += emit(nodes, meshes, "shell", shell)
 
     segments = 16 if target < 50000 else 32
     for idx, (b, c) in enumerate(rooms):
@@ -374,17 +457,8 @@ def generate(seed, target):
         for px in (cx - (room.x1 - room.x0) / 4, cx + (room.x1 - room.x0) / 4):
             panel(mb, px, cz, 1.2, 0.6)
             room.ceiling.append((px - 0.6, cz - 0.3, px + 0.6, cz + 0.3))
-        if rng.random() < 0.6:
-            staircase(mb, rng, room)
-        for _ in range(rng.randint(0, 2)):
-            pillar(mb, rng, room, segments)
-        makers = (table, crates, crates, shelf, shelf, pillar)
-        failures = 0
-        while mb.triangles < budget and failures < 40:
-            maker = rng.choice(makers)
-            ok = maker(mb, rng, room, segments) if maker is pillar else maker(mb, rng, room)
-            failures += 0 if ok else 1
-        triangles += emit("room_%d_%d" % (row, c), mb)
+        furnish(mb, rng, room, segments, (staircase, pillar, table, crates, shelf), lambda: mb.triangles < budget)
+        triangles += emit(nodes, meshes, "room_%d_%d" % (row, c), mb)
 
     corridor = next(b for b in bands if b[2] == "corridor")
     return nodes, meshes, (xmin, xmax, zmin, zmax, (corridor[0] + corridor[1]) / 2), triangles
@@ -489,13 +563,12 @@ class CleanRoom(Room):
 
 
 def table_clean(mb, rng, room):
-    w, d, h = rng.uniform(1.2, 2.0), rng.uniform(0.7, 1.0), 0.75
-    r = room.place(rng, w, d)
+    r = place_table(rng, room)
     if not r:
         return False
+    h = TABLE_H
     under = h - 0.05
-    legs = [(lx, lx + 0.07, lz, lz + 0.07) for lx, lz in (
-        (r[0] + 0.05, r[1] + 0.05), (r[2] - 0.12, r[1] + 0.05), (r[0] + 0.05, r[3] - 0.12), (r[2] - 0.12, r[3] - 0.12))]
+    legs = table_legs(r)
     clean_box(mb, MAT["wood"], (r[0], under, r[1]), (r[2], h, r[3]), holes={"-y": legs})
     for x0, x1, z0, z1 in legs:  # legs run from the floor to the underside of the top, both cut for them
         clean_box(mb, MAT["wood"], (x0, 0.0, z0), (x1, under, z1), drop=("-y", "+y"))
@@ -504,27 +577,22 @@ def table_clean(mb, rng, room):
 
 
 def crates_clean(mb, rng, room):
-    s = rng.uniform(0.5, 0.9)
-    r = room.place(rng, s, s)
-    if not r:
+    placed = place_crate(rng, room)
+    if not placed:
         return False
-    top = None
-    if rng.random() < 0.5:  # a smaller crate standing on top
-        t = s * 0.6
-        x, z = r[0] + rng.uniform(0.02, s - t - 0.02), r[1] + rng.uniform(0.02, s - t - 0.02)
-        top = (x, x + t, z, z + t)
+    s, r, top = placed  # top: a smaller crate standing on it
     clean_box(mb, MAT["crate"], (r[0], 0.0, r[1]), (r[2], s, r[3]), drop=("-y",), holes={"+y": [top]} if top else None)
     if top:
-        clean_box(mb, MAT["crate"], (top[0], s, top[2]), (top[1], s + t, top[3]), drop=("-y",))
+        clean_box(mb, MAT["crate"], (top[0], s, top[2]), (top[1], s + s * TOP_CRATE, top[3]), drop=("-y",))
     room.floor_holes.append((r[0], r[2], r[1], r[3]))
     return True
 
 
 def shelf_clean(mb, rng, room):
-    w, d, h = rng.uniform(1.2, 2.2), 0.4, 2.0
-    r = room.place(rng, w, d)
+    r = place_shelf(rng, room)
     if not r:
         return False
+    h = SHELF_H
     in0, in1 = r[0] + 0.04, r[2] - 0.04  # inner faces of the two uprights; the boards span exactly between them
     zb0, zb1 = r[1] + 0.01, r[3] - 0.01
     boards, ends = 4, []
@@ -556,10 +624,10 @@ def pillar_clean(mb, rng, room, segments):
     """A round pillar from floor to ceiling. Its footprint square is a hole in both; the part of the square around
     the pillar is filled by triangles fanning from the square's corners (the 4 ring vertices on the square's sides
     are set to the square's own coordinates, so the fans meet the hole's edges exactly)."""
-    rad = rng.uniform(0.2, 0.3)
-    r = room.place(rng, 2 * rad, 2 * rad, margin=1.2, tall=True)
-    if not r:
+    placed = place_pillar(rng, room)
+    if not placed:
         return False
+    rad, r = placed
     cx, cz = (r[0] + r[2]) / 2, (r[1] + r[3]) / 2
     ring = [(cx + rad * math.cos(2 * math.pi * k / segments), cz + rad * math.sin(2 * math.pi * k / segments))
             for k in range(segments)]
@@ -633,42 +701,9 @@ def generate_clean(seed, target):
     rooms = [(b, c) for b in range(len(bands)) if bands[b][2] == "room" for c in range(cols)]
     corridors = [b for b in range(len(bands)) if bands[b][2] == "corridor"]
     h = WALL_T / 2
-    DOOR_H = 2.1
 
-    # Openings, drawn in generate()'s order: xopen[k] in the x-wall on band boundary k, as (ua, ub, ya, yb) with u
-    # along x; zopen[(b, c)] in the z-wall at xs[c] across band b, u along z. The first corridor has no window.
-    xopen = []
-    for k in range(len(bands) + 1):
-        below = bands[k - 1] if k > 0 else None
-        above = bands[k] if k < len(bands) else None
-        openings = []
-        for c in range(cols):
-            a0, a1 = xs[c] + 0.8, xs[c + 1] - 0.8
-            if below is None or above is None:
-                openings += windows_along(a0, a1)
-            elif "corridor" in (below[2], above[2]):
-                u = rng.uniform(a0, a1 - 1.2)
-                openings.append((u, u + 1.2, 0.0, DOOR_H))
-            elif rng.random() < 0.5:
-                u = rng.uniform(a0, a1 - 1.0)
-                openings.append((u, u + 1.0, 0.0, DOOR_H))
-        xopen.append(openings)
-    zopen = {}
-    for b, (z0, z1, kind, _) in enumerate(bands):
-        for c in range(cols + 1):
-            outer = c in (0, cols)
-            if not outer and kind == "corridor":
-                continue
-            openings = []
-            if outer:
-                if kind == "room":
-                    openings = windows_along(z0 + 0.6, z1 - 0.6)
-                elif b != corridors[0]:
-                    openings = [((z0 + z1) / 2 - 0.6, (z0 + z1) / 2 + 0.6, 0.9, 2.2)]
-            elif rng.random() < 0.4:
-                u = rng.uniform(z0 + 0.8, z1 - 1.8)
-                openings.append((u, u + 1.0, 0.0, DOOR_H))
-            zopen[(b, c)] = openings
+    # Openings in generate()'s order; doors stand on the floor; the first corridor has no window.
+    xopen, zopen = draw_openings(rng, xs, bands, cols, 0.0, windowless=corridors[0])
     n_lit = max(1, len(rooms) // 2)
     lit = set(rng.sample(range(len(rooms)), n_lit))  # rooms with ceiling panels; the others are lit by daylight only
 
@@ -676,12 +711,6 @@ def generate_clean(seed, target):
         return [o for o in openings if a < o[0] and o[1] < b]
 
     nodes, meshes = [], []
-
-    def emit(name, mb):
-        if mb.groups:
-            meshes.append((name, mb))
-            nodes.append({"name": name, "mesh": len(meshes) - 1})
-        return mb.triangles
 
     # The outside of the building (outward faces, windows cut), and every opening's tunnel.
     shell = MeshBuilder()
@@ -703,7 +732,7 @@ def generate_clean(seed, target):
                 tunnel(shell, "z", xs[c], o)
     for o in [o for ops in xopen for o in ops] + [o for ops in zopen.values() for o in ops]:
         windows, doors = windows + (o[2] > 0.0), doors + (o[2] == 0.0)
-    triangles = emit("shell", shell)
+    triangles = emit(nodes, meshes, "shell", shell)
 
     panels = 0
     for k, b in enumerate(corridors):
@@ -716,7 +745,7 @@ def generate_clean(seed, target):
                 px, pz = xmin + (xmax - xmin) * (i + 0.5) / n, (z0 + z1) / 2
                 plane_face(mb, MAT["panel"], 1, HEIGHT - PANEL_GAP, -1, px - 0.5, px + 0.5, pz - 0.2, pz + 0.2)
                 panels += 1
-        triangles += emit("corridor_%d" % k, mb)
+        triangles += emit(nodes, meshes, "corridor_%d" % k, mb)
 
     segments = 16 if target < 50000 else 32
     for idx, (b, c) in enumerate(rooms):
@@ -733,20 +762,12 @@ def generate_clean(seed, target):
                 plane_face(mb, MAT["panel"], 1, HEIGHT - PANEL_GAP, -1, px - 0.6, px + 0.6, cz - 0.3, cz + 0.3)
                 room.ceiling.append((px - 0.6, cz - 0.3, px + 0.6, cz + 0.3))
                 panels += 1
-        if rng.random() < 0.6:
-            staircase_clean(mb, rng, room)
-        for _ in range(rng.randint(0, 2)):
-            pillar_clean(mb, rng, room, segments)
-        makers = (table_clean, crates_clean, crates_clean, shelf_clean, shelf_clean, pillar_clean)
-        failures = 0
-        while mb.triangles + walls.triangles + 4 * len(room.floor_holes) < budget and failures < 40:
-            maker = rng.choice(makers)
-            ok = maker(mb, rng, room, segments) if maker is pillar_clean else maker(mb, rng, room)
-            failures += 0 if ok else 1
+        furnish(mb, rng, room, segments, (staircase_clean, pillar_clean, table_clean, crates_clean, shelf_clean),
+                lambda: mb.triangles + walls.triangles + 4 * len(room.floor_holes) < budget)
         cavity(mb, room.x0, room.x1, room.z0, room.z1, within(xopen[b], room.x0, room.x1),
                within(xopen[b + 1], room.x0, room.x1), zopen[(b, c)], zopen[(b, c + 1)],
                room.floor_holes, room.ceiling_holes, room.fillers)
-        triangles += emit("room_%d_%d" % (row, c), mb)
+        triangles += emit(nodes, meshes, "room_%d_%d" % (row, c), mb)
 
     corridor = bands[corridors[0]]
     stats = {"rooms": len(rooms), "corridors": len(corridors), "windows": windows, "doorways": doors,
