@@ -1,4 +1,5 @@
 #include "baker/solve/adaptive_refinement.h"
+#include "mesh/triangle_sampling.h"
 
 #include <algorithm>
 #include <unordered_map>
@@ -37,16 +38,8 @@ RefinementRequest findRadiosityDiscontinuities(const PatchMesh& mesh, const Radi
     RefinementRequest request;
     for (std::size_t e = 0; e < el.size(); ++e) {
         if (!marked[e]) continue;
-        double longest = 0.0, radius = 0.0;
-        for (int k = 0; k < 3; ++k) {
-            const glm::dvec3& p = el.vertices[el.triangles[e][std::size_t(k)]];
-            longest = std::max(longest, glm::length(p - el.vertices[el.triangles[e][std::size_t((k + 1) % 3)]]));
-            radius = std::max(radius, glm::length(p - el.centroid[e]));
-        }
-        if (longest <= targetSizeM * (1.0 + 1e-6)) continue;
-        // Slightly inside the element's circumradius: the region covers this element's refined faces, not its
-        // neighbours' (whose centroids lie further out).
-        request.regions.push_back({el.centroid[e], radius, targetSizeM});
+        if (longestEdgeM(el, e) <= targetSizeM * (1.0 + 1e-6)) continue;
+        request.regions.push_back({el.centroid[e], farthestCornerM(el, e), targetSizeM});
     }
     return request;
 }

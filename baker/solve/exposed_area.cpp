@@ -66,10 +66,6 @@ ElementExposure measureExposure(const Scene& scene, const EmbreeScene& rays, con
     out.fraction.assign(el.size(), 1.0);
     out.centroid = el.centroid;
     const int k = settings.samplesPerSide, screen = settings.screenSamplesPerSide;
-    auto pointOf = [&](std::size_t e, double wa, double wb) {
-        const auto& tri = el.triangles[e];
-        return wa * el.vertices[tri[0]] + wb * el.vertices[tri[1]] + (1.0 - wa - wb) * el.vertices[tri[2]];
-    };
     auto normalOf = [&](std::size_t e) { return glm::normalize(glm::dvec3(el.normal[e])); };
     auto degenerate = [&](std::size_t e) { return !(glm::dot(glm::dvec3(el.normal[e]), glm::dvec3(el.normal[e])) > 0.5); };
 
@@ -83,7 +79,7 @@ ElementExposure measureExposure(const Scene& scene, const EmbreeScene& rays, con
                 bool anyBackface = false;
                 if (!degenerate(e))
                     forEachSubTriangleCentroid(screen, [&](double wa, double wb) {
-                        anyBackface = anyBackface || pointInsideGeometry(scene, rays, pointOf(e, wa, wb), normalOf(e), 0.0,
+                        anyBackface = anyBackface || pointInsideGeometry(scene, rays, pointOnElement(el, e, wa, wb), normalOf(e), 0.0,
                                                                          settings.screenRayStrata);
                     });
                 sample[e] = anyBackface;
@@ -107,7 +103,7 @@ ElementExposure measureExposure(const Scene& scene, const EmbreeScene& rays, con
             exposed.clear();
             glm::dvec3 sum(0.0);
             forEachSubTriangleCentroid(k, [&](double wa, double wb) {
-                const glm::dvec3 p = pointOf(e, wa, wb);
+                const glm::dvec3 p = pointOnElement(el, e, wa, wb);
                 if (covered(scene, rays, p, n, settings)) return;
                 exposed.push_back(p);
                 sum += p;

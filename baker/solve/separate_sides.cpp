@@ -36,14 +36,6 @@ struct UnionFind {
     std::vector<std::uint32_t> parent;
 };
 
-double longestEdge(const ElementArrays& el, std::size_t e) {
-    double longest = 0.0;
-    for (int k = 0; k < 3; ++k)
-        longest = std::max(longest, glm::length(el.vertices[el.triangles[e][std::size_t(k)]] -
-                                                el.vertices[el.triangles[e][std::size_t((k + 1) % 3)]]));
-    return longest;
-}
-
 // Lift off the face: relative to the element, never below what float error in the ray tracer can undo.
 double liftM(const EmbreeScene& rays, double edgeM, const SideSeparationSettings& s) {
     return std::max(s.liftFraction * edgeM, 4.0 * rays.rayEpsilonM());
@@ -79,13 +71,11 @@ bool elementStraddles(const EmbreeScene& rays, const PatchMesh& mesh, std::size_
     const glm::dvec3 normal(el.normal[e]);
     if (!(glm::dot(normal, normal) > 0.5)) return false;  // degenerate
     const glm::dvec3 n = glm::normalize(normal);
-    const double lift = liftM(rays, longestEdge(el, e), s);
-    const auto& tri = el.triangles[e];
+    const double lift = liftM(rays, longestEdgeM(el, e), s);
     std::vector<glm::dvec3> points;
     points.reserve(std::size_t(s.samplesPerSide) * std::size_t(s.samplesPerSide));
     forEachSubTriangleCentroid(s.samplesPerSide, [&](double wa, double wb) {
-        const glm::dvec3 p = wa * el.vertices[tri[0]] + wb * el.vertices[tri[1]] + (1.0 - wa - wb) * el.vertices[tri[2]];
-        const glm::dvec3 q = p + lift * n;
+        const glm::dvec3 q = pointOnElement(el, e, wa, wb) + lift * n;
         if (!buried(rays, q, n)) points.push_back(q);
     });
     if (points.size() < 2) return false;
@@ -133,16 +123,15 @@ std::size_t splitPatchesBySide(const EmbreeScene& rays, PatchMesh& mesh, const S
                     continue;
                 }
                 const glm::dvec3 n = glm::normalize(normal);
-                const double lift = liftM(rays, longestEdge(el, e), settings);
+                const double lift = liftM(rays, longestEdgeM(el, e), settings);
                 lifted[k] = el.centroid[e] + lift * n;
                 isBuried[k] = buried(rays, lifted[k], n);
                 if (!isBuried[k]) continue;
                 // The centroid is under a wall: the element takes the side of its open sample point nearest the
                 // centroid (an element at a wall's foot, mostly buried, with its open strip in one room).
                 double best = std::numeric_limits<double>::infinity();
-                const auto& tri = el.triangles[e];
                 forEachSubTriangleCentroid(settings.samplesPerSide, [&](double wa, double wb) {
-                    const glm::dvec3 p = wa * el.vertices[tri[0]] + wb * el.vertices[tri[1]] + (1.0 - wa - wb) * el.vertices[tri[2]];
+                    const glm::dvec3 p = pointOnElement(el, e, wa, wb);
                     const double d2 = glm::dot(p - el.centroid[e], p - el.centroid[e]);
                     if (d2 >= best || buried(rays, p + lift * n, n)) return;
                     best = d2;
@@ -260,17 +249,12 @@ PatchMesh subdivideApart(const Scene& scene, const EmbreeScene& rays, const Subd
                 open.insert(keys[e]);
                 continue;
             }
-            double longest = 0.0, radius = 0.0;
-            for (int k = 0; k < 3; ++k) {
-                const glm::dvec3& p = el.vertices[el.triangles[e][std::size_t(k)]];
-                longest = std::max(longest, glm::length(p - el.vertices[el.triangles[e][std::size_t((k + 1) % 3)]]));
-                radius = std::max(radius, glm::length(p - el.centroid[e]));
-            }
+            const double longest = longestEdgeM(el, e);
             if (longest <= minEdgeM * (1.0 + 1e-6)) {
                 ++left;
                 continue;
             }
-            found.regions.push_back({el.centroid[e], radius, std::max(0.5 * longest, minEdgeM)});
+            found.regions.push_back({el.centroid[e], farthestCornerM(el, e), std::max(0.5 * longest, minEdgeM)});
         }
         r.straddlingElementsLeft = left;
         if (found.regions.empty()) break;
