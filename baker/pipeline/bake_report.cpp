@@ -65,7 +65,8 @@ nlohmann::json lightmapJson(const LightmapReport& lm) {
                        {"maxRelativeBefore", lm.seams.maxRelativeBefore},
                        {"maxRelativeAfter", lm.seams.maxRelativeAfter},
                        {"meanRelativeBefore", lm.seams.meanRelativeBefore},
-                       {"meanRelativeAfter", lm.seams.meanRelativeAfter}}}};
+                       {"meanRelativeAfter", lm.seams.meanRelativeAfter},
+                       {"sweeps", lm.seams.sweeps}}}};
 }
 
 }  // namespace
