@@ -47,7 +47,9 @@ std::vector<SeamSample> findSeamSamples(const Scene& scene, const UvAtlas& atlas
         // Mesh edge → the UVs of its ends as each unwrapped triangle sees them. Ends are keyed by quantised
         // position, not vertex index: non-indexed glTF gives every triangle its own vertices.
         const SurfaceMesh& mesh = scene.instances[i].mesh;
-        const double quantum = 1e-7 * std::max(1.0, scene.bounds().diagonal());
+        // Relative to the scene: an absolute floor would weld distinct vertices of a millimetre-sized scene.
+        const double diagonalM = scene.bounds().diagonal();
+        const double quantum = diagonalM > 0.0 ? 1e-7 * diagonalM : 1e-7;
         std::map<std::array<std::int64_t, 3>, std::int32_t> positionId;
         auto idOf = [&](std::int32_t v) {
             const auto p = mesh.point(SurfaceMesh::VertexHandle(v));

@@ -53,7 +53,9 @@ RgbImage renderBakedScene(const Scene& scene, const UvAtlas& atlas, const std::v
     view.yfovRadians = double(camera.yfovRadians);
     // The glTF znear can be large; the path tracer has none, so only guard against the eye's own surface.
     const Bounds bounds = scene.bounds();
-    view.nearM = std::max(1e-6, 1e-6 * glm::length(bounds.max - bounds.min));
+    // Relative to the scene (a 1 µm floor clipped a millimetre-sized scene's first 0.1 %); a point scene gets 1 µm.
+    const double diagonalM = glm::length(bounds.max - bounds.min);
+    view.nearM = diagonalM > 0.0 ? 1e-6 * diagonalM : 1e-6;
     view.width = width;
     view.height = height;
 

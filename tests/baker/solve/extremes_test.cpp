@@ -25,12 +25,16 @@ Scene withEmissionScaled(Scene scene, float k) {
     return scene;
 }
 
-// Coarse on purpose: these tests compare a scene with itself under a transformation, not with ground truth.
+// Coarse elements on purpose: these tests compare a scene with itself under a transformation, not with ground
+// truth. The hemicube is not coarse: a transformed scene rounds differently, so ties among the patches' unshot
+// powers can break the other way and the shots come in another order with other random hemicube rotations. At
+// R = 32 that alone moves a surface by up to 0.84 % (seed 2 against seed 1 at scale 1), which once passed for an
+// absolute length hidden at ×1e-3 (0.46 %); at R = 128 seeds differ by ≤ 0.07 % and so do the scales.
 SolveSettings cornellSettings(double scale) {
     SolveSettings s;
     s.subdivision = {0.25 * scale, 0.125 * scale, 0.0};
     s.solver.kind = SolverKind::Shoot;
-    s.solver.hemicubeResolution = 32;
+    s.solver.hemicubeResolution = 128;
     return s;
 }
 
@@ -67,7 +71,7 @@ std::vector<glm::dvec3>* CornellExtremes::reference_ = nullptr;
 
 // Irradiance is scale invariant at fixed radiance: E/π per surface must not move with the units.
 TEST_F(CornellExtremes, ScaledByOneThousandth) {
-    expectSameSurfaces(*reference_, perSurface(*solveTestScene(transformed(*cornell_, 1e-3, {}), cornellSettings(1e-3))), 0.01,
+    expectSameSurfaces(*reference_, perSurface(*solveTestScene(transformed(*cornell_, 1e-3, {}), cornellSettings(1e-3))), 2e-3,
                        "scale 1e-3");
 }
 
