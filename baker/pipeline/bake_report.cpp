@@ -1,5 +1,6 @@
 #include "baker/pipeline/bake_report.h"
 
+#include <cmath>
 #include <fstream>
 #include <sstream>
 
@@ -15,8 +16,11 @@ nlohmann::json vec(const V& v) { return {v.x, v.y, v.z}; }
 nlohmann::json convergenceJson(const SolveReport& solve) {
     nlohmann::json history = nlohmann::json::array();
     for (const ConvergenceRecord& r : solve.history.records())
+    {
         history.push_back({{"shots", r.shots}, {"seconds", r.seconds}, {"unshotFraction", r.unshotFraction},
                            {"errorBound", r.errorBound}});
+        if (r.localBound >= 0.0 && std::isfinite(r.localBound)) history.back()["localBound"] = r.localBound;
+    }
     return {{"stopReason", solve.stopReason},
             {"shots", solve.shots},
             {"hemicubes", solve.hemicubes},

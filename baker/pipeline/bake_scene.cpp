@@ -1,6 +1,7 @@
 #include "baker/pipeline/bake_scene.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 #include <tbb/global_control.h>
@@ -90,8 +91,12 @@ private:
         const SolveSettings& s = result_.report.settings.solve;
         result_.solved = solveScene(scene_, s, rays, [&](const std::string& stage, const ConvergenceRecord& r) {
             std::string line = stage + ": ";
-            if (stage == "shoot")
-                line += std::to_string(r.shots) + " shots, unshot " + percent(r.unshotFraction) + " of injected (stop at " +
+            if (stage == "shoot" && r.localBound >= 0.0)
+                line += std::to_string(r.shots) + " shots, local phase: worst element still to receive " +
+                        (std::isfinite(r.localBound) ? percent(r.localBound) : std::string("an unknown part")) +
+                        " of its light (stop at " + percent(s.solver.epsilon) + ")";
+            else if (stage == "shoot")
+                line += std::to_string(r.shots) + " shots, unshot " + percent(r.unshotFraction) + " of injected (bulk until " +
                         percent(s.solver.epsilon) + ")";
             else
                 line += "sweep done, error bound " + percent(r.errorBound);

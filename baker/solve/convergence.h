@@ -13,6 +13,9 @@ struct ConvergenceRecord {
     // Upper bound on the relative error of the total exitance still to come: the unshot power reflected at most
     // ρ_max per bounce, U/(1−ρ_max), over the exitance power so far.
     double errorBound = 0.0;
+    // In the local phase (after the bulk), the worst element's bound (ProgressiveShooter::localBound: light
+    // still to arrive there over what it has); −1 before it.
+    double localBound = -1.0;
 };
 
 class ConvergenceHistory {

@@ -318,6 +318,7 @@ std::string ProgressiveShooter::run(ConvergenceHistory& history, const Progress&
     const std::size_t batch = std::max<std::size_t>(1, tbb::this_task_arena::max_concurrency());
     std::vector<Shot> shots(batch);
     std::uint64_t shotSeed = settings_.seed * 0x9E3779B97F4A7C15ull;
+    bool localPhase = false;
 
     auto record = [&](bool force) {
         const double seconds = startSeconds + clock.seconds();
@@ -327,6 +328,7 @@ std::string ProgressiveShooter::run(ConvergenceHistory& history, const Progress&
         r.seconds = seconds;
         r.unshotFraction = injected > 0.0 ? queue_.totalPower() / injected : 0.0;
         r.errorBound = exitanceErrorBound(queue_.totalPower(), exitanceW_, maxReflectance_);
+        r.localBound = localPhase ? finalBound_.max : -1.0;
         history.add(r);
         if (progress) progress(r);
     };
@@ -352,6 +354,7 @@ std::string ProgressiveShooter::run(ConvergenceHistory& history, const Progress&
     // Then locally: the patches whose unshot light is still a sizeable part of what some element has.
     while (reason.empty()) {
         finalBound_ = localBound(settings_.epsilon);
+        localPhase = true;
         if (finalBound_.max <= settings_.epsilon) { reason = "converged"; break; }
         if (const char* l = limit()) { reason = l; break; }
         shoot(finalBound_.worstPatches, shots, shotSeed);

@@ -38,6 +38,12 @@ TEST(CliBake, CornellWritesReportWithConvergenceHistory) {
     EXPECT_LE(history.back()["unshotFraction"].get<double>(), 0.02);
     for (std::size_t i = 1; i < history.size(); ++i)
         EXPECT_GE(history[i]["shots"].get<double>(), history[i - 1]["shots"].get<double>());
+    // The local phase reports its own figure (history and progress line; the CLI throttles the latter): the last
+    // record's is the bound the solve stopped on (≤ ε), the same as convergence.localBound.max.
+    ASSERT_TRUE(history.back().contains("localBound")) << history.back();
+    EXPECT_LE(history.back()["localBound"].get<double>(), 0.02);
+    EXPECT_DOUBLE_EQ(history.back()["localBound"].get<double>(), j["convergence"]["localBound"]["max"].get<double>());
+    EXPECT_FALSE(history.front().contains("localBound"));
     // Power ledger: every emitted watt is absorbed, escaped through the open front, or still unshot.
     for (int c = 0; c < 3; ++c) {
         const double in_ = j["power"]["emittedW"][c].get<double>() + j["power"]["directW"][c].get<double>();
