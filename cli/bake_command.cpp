@@ -24,7 +24,7 @@ struct BakeOptions {
     std::string preset = "medium";
     std::optional<double> patchSize, elementSize, emitterPatchSize, epsilon, maxTime, proximity, formFactorCacheMiB;
     std::optional<int> hemicubeRes, gatherSweeps, adaptiveLevels;
-    std::optional<double> adaptiveThreshold;
+    std::optional<double> adaptiveThreshold, roomFraction;
     std::optional<std::uint64_t> maxShots;
     std::optional<std::string> solver, emitters;
     std::optional<int> emitterSamples;
@@ -55,6 +55,7 @@ BakeSettings resolveSettings(const BakeOptions& o, double sceneDiagonalM) {
     LightingSettings& lighting = s.solve.lighting;
     override(o.patchSize, sub.patchSizeM);
     override(o.elementSize, sub.elementSizeM);
+    override(o.roomFraction, s.solve.roomScale.roomFraction);
     if (o.patchSize && !o.elementSize) sub.elementSizeM = std::min(sub.elementSizeM, *o.patchSize);
     override(o.emitterPatchSize, sub.emitterPatchSizeM);
     override(o.epsilon, solver.epsilon);
@@ -127,6 +128,10 @@ CommandRunner addBakeCommand(CLI::App& app) {
     cmd->add_option("--patch-size", o->patchSize, "Longest edge of a shooting patch, metres (overrides the preset)")
         ->check(CLI::PositiveNumber);
     cmd->add_option("--element-size", o->elementSize, "Longest edge of a receiving element, metres")->check(CLI::PositiveNumber);
+    cmd->add_option("--room-fraction", o->roomFraction,
+                    "Elements no larger than this × their mean free path (the room they are in; 1/3 at medium makes "
+                    "0.8-0.9 m elements in 5 m rooms whatever the level's size); 0 = sizes from the scene diagonal only")
+        ->check(CLI::Range(0.0, 10.0));
     cmd->add_option("--emitter-patch-size", o->emitterPatchSize, "Longest edge of an emitter patch, metres (default patch size / 4)")
         ->check(CLI::PositiveNumber);
     cmd->add_option("--hemicube-res", o->hemicubeRes,

@@ -1,5 +1,6 @@
 #include "baker/direct/sky_light.h"
 #include "mesh/frame_math.h"
+#include "mesh/triangle_sampling.h"
 
 #include <cmath>
 
@@ -36,13 +37,25 @@ double skyVisibility(const EmbreeScene& rays, const glm::dvec3& p, const glm::dv
 }
 
 std::vector<glm::dvec3> elementsSkyIrradianceOverPi(const EmbreeScene& rays, const PatchMesh& mesh, glm::vec3 skyRadiance,
-                                                    int samplesPerElement, std::uint64_t seed) {
+                                                    int samplesPerElement, int pointsPerElement, std::uint64_t seed) {
     std::vector<glm::dvec3> out(mesh.elements.size(), glm::dvec3(0.0));
     if (skyRadiance == glm::vec3(0.0f)) return out;
+    const int k = int(std::ceil(std::sqrt(double(std::max(pointsPerElement, 1)))));
+    const int raysPerPoint = std::max(1, (std::max(samplesPerElement, 1) + k * k - 1) / (k * k));
     tbb::parallel_for(std::size_t(0), out.size(), [&](std::size_t e) {
-        const double v = skyVisibility(rays, mesh.elements.centroid[e], glm::dvec3(mesh.elements.normal[e]),
-                                       samplesPerElement, seed ^ (e * 0xD1B54A32D192ED03ull));
-        out[e] = v * glm::dvec3(skyRadiance);
+        const glm::dvec3 n(mesh.elements.normal[e]);
+        const std::uint64_t elementSeed = seed ^ (e * 0xD1B54A32D192ED03ull);
+        if (mesh.elements.areaM2[e] < triangleArea(mesh.elements, e) * (1.0 - 1e-9)) {
+            out[e] = skyVisibility(rays, mesh.elements.centroid[e], n, samplesPerElement, elementSeed) * glm::dvec3(skyRadiance);
+            return;
+        }
+        double visible = 0.0;
+        std::uint64_t point = 0;
+        forEachSubTriangleCentroid(k, [&](double wa, double wb) {
+            visible += skyVisibility(rays, pointOnElement(mesh.elements, e, wa, wb), n, raysPerPoint,
+                                     elementSeed ^ (++point * 0x9E3779B97F4A7C15ull));
+        });
+        out[e] = visible / double(k * k) * glm::dvec3(skyRadiance);
     });
     return out;
 }

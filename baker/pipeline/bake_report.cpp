@@ -105,7 +105,10 @@ nlohmann::json BakeReport::toJson() const {
                   {"seconds", sides.seconds}};
     j["refinement"] = {{"elementsBefore", refinement.elementsBefore},
                        {"elementsAfter", refinement.elementsAfter},
-                       {"regions", refinement.regions}};
+                       {"regions", refinement.regions},
+                       {"roomScale", {{"regions", refinement.roomScale.regions},
+                                      {"smallestSizeM", refinement.roomScale.smallestSizeM},
+                                      {"medianFreePathM", refinement.roomScale.medianFreePathM}}}};
     if (lightmap) j["lightmap"] = lightmapJson(*lightmap);
     j["primitives"] = nlohmann::json::array();
     for (const BakedPrimitive& p : primitives)

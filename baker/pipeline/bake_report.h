@@ -13,6 +13,7 @@
 #include "baker/output/gltf_writer.h"
 #include "baker/pipeline/bake_settings.h"
 #include "baker/solve/exposed_area.h"
+#include "baker/solve/room_scale.h"
 #include "baker/solve/radiosity_solver.h"
 #include "baker/solve/separate_sides.h"
 
@@ -24,7 +25,8 @@ struct StageTiming {
 };
 
 struct RefinementReport {
-    std::size_t elementsBefore = 0, elementsAfter = 0, regions = 0;
+    std::size_t elementsBefore = 0, elementsAfter = 0, regions = 0;  // adaptive refinement
+    RoomScaleReport roomScale;                                        // before it: elements that follow the rooms
 };
 
 struct LightmapReport {

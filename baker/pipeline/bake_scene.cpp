@@ -111,7 +111,8 @@ private:
         report.elements = solved.mesh.elements.size();
         report.exposedArea = solved.exposedArea;
         report.sides = solved.sides;
-        report.refinement = {solved.elementsBeforeRefinement, solved.mesh.elements.size(), solved.refinementRegions};
+        report.refinement = {solved.elementsBeforeRefinement, solved.mesh.elements.size(), solved.refinementRegions,
+                             solved.roomScale};
         std::size_t emitting = 0;
         for (const glm::vec3& l : solved.mesh.elements.emittedRadiance) emitting += (l.x > 0.0f || l.y > 0.0f || l.z > 0.0f);
         if (s.lighting.emitters == EmitterLighting::Rays && emitting > 0 && !solved.report.emittersByRays)

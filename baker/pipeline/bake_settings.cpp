@@ -41,6 +41,9 @@ void visitKnobs(BakeSettings& s, Visitor&& v) {
     v("sidesSamplesPerSide", s.solve.sides.samplesPerSide);
     v("sidesMinEdgeFraction", s.solve.sides.minEdgeFraction);
     v("sidesLiftFraction", s.solve.sides.liftFraction);
+    v("roomFraction", s.solve.roomScale.roomFraction);
+    v("roomScaleRaysPerElement", s.solve.roomScale.raysPerElement);
+    v("roomScaleMinSizeFraction", s.solve.roomScale.minSizeFraction);
     // Solve: the solver and adaptive refinement.
     v("solver", Enum<SolverKind>{so.kind, solverKindName, parseSolverKind});
     v("hemicubeResolution", so.hemicubeResolution);

@@ -54,11 +54,11 @@ InjectedLight injectDirectLight(const Scene& scene, const PatchMesh& mesh, const
         for (std::size_t e = 0; e < el.size(); ++e) light.rayTraced[e] += light.fromEmitters[e];
     }
     std::vector<glm::dvec3> sky = elementsSkyIrradianceOverPi(rays, mesh, lighting.skyRadiance, lighting.skySamplesPerElement,
-                                                              settings.solver.seed);
+                                                              pointsPerElement, settings.solver.seed);
     // Ray-traced averages of lights and emitters run over the whole triangle, and its covered points (under a
     // block) see nothing; an element trimmed to its exposed part (baker/solve/exposed_area.h) wants the mean over
-    // that part. The sky is sampled at the exposed centroid alone, so it already is that mean. Elements almost
-    // wholly covered are left alone: nobody sees them, and 1/fraction would amplify any stray ray.
+    // that part. The sky of a trimmed element is sampled at its exposed centroid alone, so it already is that mean.
+    // Elements almost wholly covered are left alone: nobody sees them, and 1/fraction would amplify any stray ray.
     for (std::size_t e = 0; e < el.size(); ++e) {
         const double whole = triangleArea(el, e);
         const double fraction = whole > 0.0 ? el.areaM2[e] / whole : 1.0;

@@ -20,17 +20,17 @@ std::unique_ptr<SolvedScene> solveScene(const Scene& scene, const SolveSettings&
         solved.pool = std::make_unique<HemicubePool>(solved.mesh, settings.solver.hemicubeResolution);
         solved.report = solveRadiosity(scene, solved.mesh, settings, *solved.pool, rays, solved.solution, progress);
     };
-    subdivideAndSolve(nullptr);
+    // Regions accumulate (room scale, then each adaptive level): each re-subdivision starts from the unrefined mesh.
+    RefinementRequest request = findRoomScaleRegions(scene, rays, settings, &solved.roomScale);
+    subdivideAndSolve(request.regions.empty() ? nullptr : &request);
     solved.elementsBeforeRefinement = solved.mesh.elements.size();
-    // Regions accumulate over levels: each re-subdivision starts from the unrefined mesh.
-    RefinementRequest request;
     for (int level = 1; level <= settings.adaptive.levels; ++level) {
         const double target = settings.subdivision.elementSizeM / double(1 << level);
         const RefinementRequest found =
             findRadiosityDiscontinuities(solved.mesh, solved.solution, settings.adaptive.threshold, target);
         if (found.regions.empty()) break;
         request.regions.insert(request.regions.end(), found.regions.begin(), found.regions.end());
-        solved.refinementRegions = request.regions.size();
+        solved.refinementRegions = request.regions.size() - solved.roomScale.regions;
         subdivideAndSolve(&request);
     }
     return owned;

@@ -1,10 +1,12 @@
 #pragma once
-// The solve stage's entry point: subdivide the scene (no element or patch straddling a wall), trim elements to their exposed area, solve, and refine
-// where radiosity steps (settings.adaptive). What later stages need of the solve is in SolvedScene.
+// The solve stage's entry point: subdivide the scene (elements no larger than their room asks, no element or patch
+// straddling a wall), trim elements to their exposed area, solve, and refine where radiosity steps
+// (settings.adaptive). What later stages need of the solve is in SolvedScene.
 #include <memory>
 
 #include "baker/solve/exposed_area.h"
 #include "baker/solve/radiosity_solver.h"
+#include "baker/solve/room_scale.h"
 #include "baker/solve/separate_sides.h"
 #include "baker/solve/solve_settings.h"
 #include "mesh/patches.h"
@@ -21,6 +23,7 @@ struct SolvedScene {
     std::unique_ptr<HemicubePool> pool;  // bound to `mesh`: later stages (final gather) reuse it
     std::size_t elementsBeforeRefinement = 0;
     std::size_t refinementRegions = 0;
+    RoomScaleReport roomScale;      // elements refined to follow the rooms (before any adaptive level)
     ExposedAreaReport exposedArea;  // of the final mesh
     SideSeparationReport sides;     // of the final mesh
     SolvedScene();

@@ -83,8 +83,21 @@ struct SideSeparationSettings {
     double liftFraction = 1e-3;
 };
 
+// Elements no larger than a fraction of the room they are in (baker/solve/room_scale.h). The presets size
+// elements from the scene's diagonal, which makes a level's rooms a few elements across (1.6 m elements in 5 m
+// rooms: rooms lit through windows and doorways came out 2–4 % bright against the path tracer); this refines
+// each element to roomFraction × its mean free path (the mean distance its cosine-weighted rays travel before
+// they hit something, 4V/S in a closed convex room). The Cornell box's elements are already finer.
+struct RoomScaleSettings {
+    double roomFraction = 0.0;  // 0 = off (presets: 1/2 draft, 1/3 medium: 0.8–0.9 m elements in 5 m rooms, 1/4, 1/5)
+    int raysPerElement = 16;          // stratified cosine-weighted rays from each element's centroid
+    // Never finer than elementSize × this (two bisections): tight gaps and buried elements stay bounded.
+    double minSizeFraction = 0.25;
+};
+
 struct SolveSettings {
     SubdivisionSettings subdivision;
+    RoomScaleSettings roomScale;
     ExposedAreaSettings exposure;
     SideSeparationSettings sides;
     SolverSettings solver;
