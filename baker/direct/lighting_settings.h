@@ -19,9 +19,15 @@ struct LightingSettings {
     int emitterSamples = 16;            // shadow rays per point towards emissive surfaces (Rays); presets 64–4096
     int maxRayTracedEmitters = 4096;    // more emitting elements than this: fall back to Hemicube (cost per point)
     glm::vec3 skyRadiance{0.0f};        // uniform sky, W·m⁻²·sr⁻¹, seen where rays and hemicube pixels escape
-    int skySamplesPerElement = 64;      // cosine-weighted visibility rays for direct sky light
+    // Cosine-weighted visibility rays per element for direct sky light, spread over its lightSamplesPerElement
+    // points. A room lit through windows has only some hundred elements, so their noise does not average out:
+    // at 64 rays the rooms of a generated level moved by up to ±3 % between sampling patterns; 1,024 rays cost
+    // ~3 s per 20k elements.
+    int skySamplesPerElement = 1024;
     float sunAngularDiameterRad = 0.0f; // > 0: directional lights become soft-shadowed discs (the sun: 0.0093)
-    int lightSamplesPerElement = 16;    // stratified points per element for punctual light shadows
+    // Stratified points per element for punctual light shadows (and the sky's rays): a sun patch's edge through a
+    // window crosses few elements, so their 16-point error (±1/8 of an element) moved whole rooms by 1–2 %; 64.
+    int lightSamplesPerElement = 64;
 };
 
 }  // namespace hemibake

@@ -3,6 +3,7 @@
 #include "mesh/triangle_sampling.h"
 
 #include <cmath>
+#include <optional>
 
 #include <tbb/parallel_for.h>
 
@@ -18,7 +19,12 @@ double uniform01(std::uint64_t& state) {
 
 }  // namespace
 
-double skyVisibility(const EmbreeScene& rays, const glm::dvec3& p, const glm::dvec3& n, int samples, std::uint64_t seed) {
+namespace {
+
+// Stratified cosine-weighted rays at p (Malley's method): the fraction that escapes. With `backHits`, rays are
+// intersected to count those that land on back faces too (slower than occlusion rays).
+double sampleSky(const EmbreeScene& rays, const glm::dvec3& p, const glm::dvec3& n, int samples, std::uint64_t seed,
+                 int* backHits) {
     const int side = std::max(1, int(std::ceil(std::sqrt(double(std::max(samples, 1))))));
     glm::dvec3 t, b;
     orthonormalBasis(n, t, b);
@@ -27,13 +33,36 @@ double skyVisibility(const EmbreeScene& rays, const glm::dvec3& p, const glm::dv
     int open = 0;
     for (int i = 0; i < side; ++i)
         for (int j = 0; j < side; ++j) {
-            // Stratified on the unit square, mapped to the cosine-weighted hemisphere (Malley's method).
             const double u = (i + uniform01(state)) / side, v = (j + uniform01(state)) / side;
             const double r = std::sqrt(u), phi = 2.0 * M_PI * v;
             const glm::dvec3 dir = r * std::cos(phi) * t + r * std::sin(phi) * b + std::sqrt(std::max(0.0, 1.0 - u)) * n;
-            open += rays.occludedRay(origin, dir, std::numeric_limits<double>::infinity(), EmbreeScene::RayEnds::Lifted) ? 0 : 1;
+            constexpr double kFar = std::numeric_limits<double>::infinity();
+            if (!backHits) {
+                open += rays.occludedRay(origin, dir, kFar, EmbreeScene::RayEnds::Lifted) ? 0 : 1;
+                continue;
+            }
+            const std::optional<Hit> hit = rays.intersect(origin, dir, kFar, EmbreeScene::RayEnds::Lifted);
+            if (!hit) ++open;
+            else if (!hit->frontFacing) ++*backHits;
         }
     return double(open) / double(side * side);
+}
+
+// skyVisibility at a point of a partly covered element, or nothing when the point is covered: at least half of its
+// rays land on back faces (it lies under or inside the cover).
+std::optional<double> exposedSkyVisibility(const EmbreeScene& rays, const glm::dvec3& p, const glm::dvec3& n, int samples,
+                                           std::uint64_t seed) {
+    int back = 0;
+    const double visible = sampleSky(rays, p, n, samples, seed, &back);
+    const int side = std::max(1, int(std::ceil(std::sqrt(double(std::max(samples, 1))))));
+    if (2 * back >= side * side) return std::nullopt;
+    return visible;
+}
+
+}  // namespace
+
+double skyVisibility(const EmbreeScene& rays, const glm::dvec3& p, const glm::dvec3& n, int samples, std::uint64_t seed) {
+    return sampleSky(rays, p, n, samples, seed, nullptr);
 }
 
 std::vector<glm::dvec3> elementsSkyIrradianceOverPi(const EmbreeScene& rays, const PatchMesh& mesh, glm::vec3 skyRadiance,
@@ -45,17 +74,25 @@ std::vector<glm::dvec3> elementsSkyIrradianceOverPi(const EmbreeScene& rays, con
     tbb::parallel_for(std::size_t(0), out.size(), [&](std::size_t e) {
         const glm::dvec3 n(mesh.elements.normal[e]);
         const std::uint64_t elementSeed = seed ^ (e * 0xD1B54A32D192ED03ull);
-        if (mesh.elements.areaM2[e] < triangleArea(mesh.elements, e) * (1.0 - 1e-9)) {
-            out[e] = skyVisibility(rays, mesh.elements.centroid[e], n, samplesPerElement, elementSeed) * glm::dvec3(skyRadiance);
-            return;
-        }
+        const bool trimmed = mesh.elements.areaM2[e] < triangleArea(mesh.elements, e) * (1.0 - 1e-9);
         double visible = 0.0;
+        int open = 0;
         std::uint64_t point = 0;
         forEachSubTriangleCentroid(k, [&](double wa, double wb) {
-            visible += skyVisibility(rays, pointOnElement(mesh.elements, e, wa, wb), n, raysPerPoint,
-                                     elementSeed ^ (++point * 0x9E3779B97F4A7C15ull));
+            const glm::dvec3 p = pointOnElement(mesh.elements, e, wa, wb);
+            const std::uint64_t pointSeed = elementSeed ^ (++point * 0x9E3779B97F4A7C15ull);
+            if (!trimmed) {
+                visible += skyVisibility(rays, p, n, raysPerPoint, pointSeed);
+                ++open;
+            } else if (const std::optional<double> v = exposedSkyVisibility(rays, p, n, raysPerPoint, pointSeed)) {
+                visible += *v;
+                ++open;
+            }
         });
-        out[e] = visible / double(k * k) * glm::dvec3(skyRadiance);
+        // A trimmed element averages its exposed points only (they stand for its exposed part, what the solver
+        // keeps of it); with none of its points exposed, its exposed centroid stands in.
+        if (open == 0) visible = skyVisibility(rays, mesh.elements.centroid[e], n, samplesPerElement, elementSeed), open = 1;
+        out[e] = visible / double(open) * glm::dvec3(skyRadiance);
     });
     return out;
 }

@@ -19,9 +19,10 @@ double skyVisibility(const EmbreeScene& rays, const glm::dvec3& p, const glm::dv
 // DirectLight::elementIrradianceOverPi uses (k = ceil(sqrt(pointsPerElement))), samplesPerElement rays shared
 // among them. Sampling at the centroid alone missed how a window's light falls off across a metre-sized element
 // (rooms lit through windows came out 1.6–3.8 % bright on a generated level). An element trimmed to its exposed part
-// (ElementArrays::areaM2 below its triangle's area) is sampled at its exposed centroid instead, with all the rays:
-// its covered points see nothing, and dividing by the exposed fraction would add the mismatch between the exposure
-// samples and these points (up to 19 % measured).
+// (ElementArrays::areaM2 below its triangle's area) averages only its points that are not covered (half their rays
+// on back faces): dividing a whole-triangle mean by the exposed fraction would add the mismatch between the
+// exposure samples and these points (up to 19 % measured), and its exposed centroid alone can sit millimetres
+// from the cover's edge (5 % dark beside a 2 mm slab).
 std::vector<glm::dvec3> elementsSkyIrradianceOverPi(const EmbreeScene& rays, const PatchMesh& mesh, glm::vec3 skyRadiance,
                                                     int samplesPerElement, int pointsPerElement, std::uint64_t seed);
 

@@ -85,11 +85,12 @@ struct SideSeparationSettings {
 
 // Elements no larger than a fraction of the room they are in (baker/solve/room_scale.h). The presets size
 // elements from the scene's diagonal, which makes a level's rooms a few elements across (1.6 m elements in 5 m
-// rooms: rooms lit through windows and doorways came out 2–4 % bright against the path tracer); this refines
-// each element to roomFraction × its mean free path (the mean distance its cosine-weighted rays travel before
-// they hit something, 4V/S in a closed convex room). The Cornell box's elements are already finer.
+// rooms, more on bigger levels); this refines each element to roomFraction × its mean free path (the mean
+// distance its cosine-weighted rays travel before they hit something, 4V/S in a closed convex room).
 struct RoomScaleSettings {
-    double roomFraction = 0.0;  // 0 = off (presets: 1/2 draft, 1/3 medium: 0.8–0.9 m elements in 5 m rooms, 1/4, 1/5)
+    // 0 = off. Presets: 1 at draft and medium (a safety net: on a 26 m level it refines only corners and tight
+    // spaces, on a 100 m one every room), 1/2 at high, 1/3 at ultra (0.8–0.9 m elements in 5 m rooms).
+    double roomFraction = 0.0;
     int raysPerElement = 16;          // stratified cosine-weighted rays from each element's centroid
     // Never finer than elementSize × this (two bisections): tight gaps and buried elements stay bounded.
     double minSizeFraction = 0.25;
