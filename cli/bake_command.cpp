@@ -129,8 +129,9 @@ CommandRunner addBakeCommand(CLI::App& app) {
         ->check(CLI::PositiveNumber);
     cmd->add_option("--element-size", o->elementSize, "Longest edge of a receiving element, metres")->check(CLI::PositiveNumber);
     cmd->add_option("--room-fraction", o->roomFraction,
-                    "Elements no larger than this × their mean free path (the room they are in; 1/3 at medium makes "
-                    "0.8-0.9 m elements in 5 m rooms whatever the level's size); 0 = sizes from the scene diagonal only")
+                    "Elements no larger than this × their mean free path (about the size of the room they are in): "
+                    "presets 1 (draft, medium), 1/2 (high), 1/3 (ultra: 0.8-0.9 m elements in 5 m rooms, whatever the "
+                    "level's size); 0 = sizes from the scene diagonal only")
         ->check(CLI::Range(0.0, 10.0));
     cmd->add_option("--emitter-patch-size", o->emitterPatchSize, "Longest edge of an emitter patch, metres (default patch size / 4)")
         ->check(CLI::PositiveNumber);

@@ -26,13 +26,13 @@ struct PresetTable {
 // README "Presets".
 constexpr PresetTable kPresets[] = {
     {"draft", 1.0 / 6, 1.0 / 2, 32, 1e-2, 2.0, 64, 8, 0, 1.0,
-     "patches ~diagonal/6, elements ≤ room, R=32, 1% unshot bound, 64 shadow rays per texel, gather every 8th texel first"},
+     "patches ~diagonal/6, elements ≤ free path, R=32, 1% unshot bound, 64 shadow rays per texel, gather every 8th texel first"},
     {"medium", 1.0 / 8, 1.0 / 2, 64, 1e-2, 2.0, 256, 4, 0, 1.0,
-     "patches ~diagonal/8, elements ≤ room, R=64, 1% unshot bound, 256 shadow rays per texel, gather every 4th texel first"},
+     "patches ~diagonal/8, elements ≤ free path, R=64, 1% unshot bound, 256 shadow rays per texel, gather every 4th texel first"},
     {"high", 1.0 / 12, 1.0 / 2, 128, 1e-3, 2.0, 1024, 2, 0, 1.0 / 2,
-     "patches ~diagonal/12, elements ≤ room/2, R=128, 0.1% unshot bound, 1024 shadow rays per texel, gather every 2nd texel first"},
+     "patches ~diagonal/12, elements ≤ free path/2, R=128, 0.1% unshot bound, 1024 shadow rays per texel, gather every 2nd texel first"},
     {"ultra", 1.0 / 16, 1.0 / 2, 256, 1e-4, 2.0, 4096, 1, 1, 1.0 / 3,
-     "patches ~diagonal/16, elements ≤ room/3, R=256, 0.01% unshot bound, one adaptive level, 4096 shadow rays, gather every texel"},
+     "patches ~diagonal/16, elements ≤ free path/3, R=256, 0.01% unshot bound, one adaptive level, 4096 shadow rays, gather every texel"},
 };
 }  // namespace
 
