@@ -3,6 +3,7 @@
 #include "mesh/triangle_sampling.h"
 
 #include <cmath>
+#include <limits>
 #include <optional>
 
 #include <tbb/parallel_for.h>
@@ -17,52 +18,52 @@ double uniform01(std::uint64_t& state) {
     return double(splitMix64(state - 0x9E3779B97F4A7C15ull) >> 11) * 0x1.0p-53;
 }
 
-}  // namespace
+struct SkyRays {
+    int open = 0, back = 0, total = 0;  // escaped, landed on a back face (counted only when asked), traced
+};
 
-namespace {
-
-// Stratified cosine-weighted rays at p (Malley's method): the fraction that escapes. With `backHits`, rays are
-// intersected to count those that land on back faces too (slower than occlusion rays).
-double sampleSky(const EmbreeScene& rays, const glm::dvec3& p, const glm::dvec3& n, int samples, std::uint64_t seed,
-                 int* backHits) {
+// Stratified cosine-weighted rays at p (Malley's method). With `countBackHits`, rays are intersected to count
+// those that land on back faces too (slower than occlusion rays).
+SkyRays sampleSky(const EmbreeScene& rays, const glm::dvec3& p, const glm::dvec3& n, int samples, std::uint64_t seed,
+                  bool countBackHits) {
     const int side = std::max(1, int(std::ceil(std::sqrt(double(std::max(samples, 1))))));
     glm::dvec3 t, b;
     orthonormalBasis(n, t, b);
     const glm::dvec3 origin = rays.offsetFromSurface(p, n);
     std::uint64_t state = seed;
-    int open = 0;
+    SkyRays count;
+    count.total = side * side;
     for (int i = 0; i < side; ++i)
         for (int j = 0; j < side; ++j) {
             const double u = (i + uniform01(state)) / side, v = (j + uniform01(state)) / side;
             const double r = std::sqrt(u), phi = 2.0 * M_PI * v;
             const glm::dvec3 dir = r * std::cos(phi) * t + r * std::sin(phi) * b + std::sqrt(std::max(0.0, 1.0 - u)) * n;
             constexpr double kFar = std::numeric_limits<double>::infinity();
-            if (!backHits) {
-                open += rays.occludedRay(origin, dir, kFar, EmbreeScene::RayEnds::Lifted) ? 0 : 1;
+            if (!countBackHits) {
+                count.open += rays.occludedRay(origin, dir, kFar, EmbreeScene::RayEnds::Lifted) ? 0 : 1;
                 continue;
             }
             const std::optional<Hit> hit = rays.intersect(origin, dir, kFar, EmbreeScene::RayEnds::Lifted);
-            if (!hit) ++open;
-            else if (!hit->frontFacing) ++*backHits;
+            if (!hit) ++count.open;
+            else if (!hit->frontFacing) ++count.back;
         }
-    return double(open) / double(side * side);
+    return count;
 }
 
 // skyVisibility at a point of a partly covered element, or nothing when the point is covered: at least half of its
 // rays land on back faces (it lies under or inside the cover).
 std::optional<double> exposedSkyVisibility(const EmbreeScene& rays, const glm::dvec3& p, const glm::dvec3& n, int samples,
                                            std::uint64_t seed) {
-    int back = 0;
-    const double visible = sampleSky(rays, p, n, samples, seed, &back);
-    const int side = std::max(1, int(std::ceil(std::sqrt(double(std::max(samples, 1))))));
-    if (2 * back >= side * side) return std::nullopt;
-    return visible;
+    const SkyRays count = sampleSky(rays, p, n, samples, seed, true);
+    if (2 * count.back >= count.total) return std::nullopt;
+    return double(count.open) / double(count.total);
 }
 
 }  // namespace
 
 double skyVisibility(const EmbreeScene& rays, const glm::dvec3& p, const glm::dvec3& n, int samples, std::uint64_t seed) {
-    return sampleSky(rays, p, n, samples, seed, nullptr);
+    const SkyRays count = sampleSky(rays, p, n, samples, seed, false);
+    return double(count.open) / double(count.total);
 }
 
 std::vector<glm::dvec3> elementsSkyIrradianceOverPi(const EmbreeScene& rays, const PatchMesh& mesh, glm::vec3 skyRadiance,

@@ -96,16 +96,20 @@ std::vector<SeamSample> findSeamSamples(const Scene& scene, const UvAtlas& atlas
     return samples;
 }
 
-void measure(const std::vector<SeamSample>& samples, const std::vector<LightmapImage>& images, double& maxRel, double& meanRel) {
+// The mean over the samples of both sides' channel sum, averaged.
+double seamMean(const std::vector<SeamSample>& samples, const std::vector<LightmapImage>& images) {
     double mean = 0.0;
     for (const SeamSample& s : samples) {
         const glm::vec3 a = lookup(images[std::size_t(s.atlas)], s.texels[0], s.weights[0]);
         const glm::vec3 b = lookup(images[std::size_t(s.atlas)], s.texels[1], s.weights[1]);
         mean += double(a.x + a.y + a.z + b.x + b.y + b.z) / 2.0;
     }
-    mean = samples.empty() ? 0.0 : mean / double(samples.size());
+    return samples.empty() ? 0.0 : mean / double(samples.size());
+}
+
+void measure(const std::vector<SeamSample>& samples, const std::vector<LightmapImage>& images, double& maxRel, double& meanRel) {
     // Relative to the local value, with a floor of 1% of the seams' mean so black corners do not dominate.
-    const double floor = 0.01 * mean;
+    const double floor = 0.01 * seamMean(samples, images);
     maxRel = meanRel = 0.0;
     for (const SeamSample& s : samples) {
         const glm::vec3 a = lookup(images[std::size_t(s.atlas)], s.texels[0], s.weights[0]);
@@ -127,15 +131,8 @@ SeamStats stitchSeams(const Scene& scene, const UvAtlas& atlas, std::vector<Ligh
     stats.samples = samples.size();
     measure(samples, lightmaps, stats.maxRelativeBefore, stats.meanRelativeBefore);
     if (stitch) {
-        // Sweeps stop early once no sample pair differs by more than 1e-4 of the seams' mean.
-        double seamMean = 0.0;
-        for (const SeamSample& s : samples)
-            for (int side = 0; side < 2; ++side) {
-                const glm::vec3 v = lookup(lightmaps[std::size_t(s.atlas)], s.texels[side], s.weights[side]);
-                seamMean += double(v.x + v.y + v.z) / 6.0;
-            }
-        seamMean /= double(std::max<std::size_t>(samples.size(), 1));
-        const float converged = float(1e-4 * seamMean);
+        // Sweeps stop early once no sample pair differs by more than 1e-4 of the seams' mean (per channel).
+        const float converged = float(1e-4 * seamMean(samples, lightmaps) / 3.0);
         for (int sweep = 0; sweep < sweeps; ++sweep) {
             float largest = 0.0f;
             for (const SeamSample& s : samples) {

@@ -21,16 +21,12 @@ struct FreePath {
 // Cosine-weighted stratified rays from the element's centroid (fixed strata centres: deterministic).
 FreePath measureFreePath(const EmbreeScene& rays, const glm::dvec3& centroid, const glm::dvec3& n, int raysPerElement) {
     const int side = std::max(1, int(std::ceil(std::sqrt(double(raysPerElement)))));
-    glm::dvec3 t, b;
-    orthonormalBasis(n, t, b);
     const glm::dvec3 origin = rays.offsetFromSurface(centroid, n);
     double sum = 0.0;
     int front = 0, back = 0, escaped = 0;
     for (int i = 0; i < side; ++i)
         for (int j = 0; j < side; ++j) {
-            const double u = (i + 0.5) / side, v = (j + 0.5 + 0.5 * (i & 1)) / side;  // rows staggered
-            const double r = std::sqrt(u), phi = 2.0 * M_PI * v;
-            const glm::dvec3 dir = r * std::cos(phi) * t + r * std::sin(phi) * b + std::sqrt(std::max(0.0, 1.0 - u)) * n;
+            const glm::dvec3 dir = cosineDirection(n, (i + 0.5) / side, (j + 0.5) / side);
             const std::optional<Hit> hit =
                 rays.intersect(origin, dir, std::numeric_limits<double>::infinity(), EmbreeScene::RayEnds::Lifted);
             if (!hit) ++escaped;
