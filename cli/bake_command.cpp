@@ -32,6 +32,7 @@ struct BakeOptions {
     float sunDiameterDeg = 0.0f;
     bool noAmbient = false;
     bool separateSides = false;
+    bool noSolidCuts = false;
     bool noPreview = false;
     int threads = 0;
     std::uint64_t seed = 1;
@@ -75,6 +76,7 @@ BakeSettings resolveSettings(const BakeOptions& o, double sceneDiagonalM) {
     override(o.emitterSamples, lighting.emitterSamples);
     solver.ambientCorrection = !o.noAmbient;
     s.solve.sides.enabled = o.separateSides;
+    if (o.noSolidCuts) s.solve.subdivision.cutAlongSolids = false;
     solver.threads = o.threads;
     solver.seed = o.seed;
     if (o.sky.size() == 3) lighting.skyRadiance = glm::vec3(o.sky[0], o.sky[1], o.sky[2]);
@@ -172,6 +174,9 @@ CommandRunner addBakeCommand(CLI::App& app) {
         ->check(CLI::Range(0.0, 10.0));
     cmd->add_flag("--no-ambient", o->noAmbient, "Do not add the ambient term for still-unshot light (its next bounce, where "
                                                 "it will arrive, and the bounces after it)");
+    cmd->add_flag("--no-solid-cuts", o->noSolidCuts,
+                  "Do not cut faces where closed solids cross them (a wall standing in a floor slab): by default the buried "
+                  "parts are dropped and no patch or element runs under a wall into the next room (issue 15)");
     cmd->add_flag("--separate-sides", o->separateSides,
                   "Experimental: bisect elements that straddle a wall standing on their face (a slab under two rooms) "
                   "and split patches by side, so no light crosses the wall's footprint (issue 15: costly on levels)");

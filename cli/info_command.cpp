@@ -78,7 +78,8 @@ nlohmann::json describe(const Scene& scene, const SubdivisionSettings& settings)
     j["bounds"] = {{"min", vec(b.min)}, {"max", vec(b.max)}};
     j["surfaceAreaM2"] = scene.surfaceAreaM2();
     const SubdivisionStats s = countSubdivision(scene, settings);
-    j["subdivision"] = {{"patchSizeM", settings.patchSizeM},
+    j["subdivision"] = {{"cutAlongSolids", settings.cutAlongSolids},
+                        {"patchSizeM", settings.patchSizeM},
                         {"elementSizeM", settings.elementSizeM},
                         {"emitterPatchSizeM", settings.emitterPatchSizeM > 0 ? settings.emitterPatchSizeM
                                                                               : settings.patchSizeM / 4.0},
@@ -142,6 +143,8 @@ CommandRunner addInfoCommand(CLI::App& app) {
     cmd->add_option("--emitter-patch-size", opts->subdivision.emitterPatchSizeM,
                     "Longest edge of an emitter patch, metres (0 = patch size / 4)")
         ->capture_default_str()->check(CLI::NonNegativeNumber);
+    cmd->add_flag("--no-solid-cuts", [opts](std::int64_t) { opts->subdivision.cutAlongSolids = false; },
+                  "Count without cutting faces along the closed solids that cross them (as `bake --no-solid-cuts`)");
     return [opts]() {
         const Scene scene = loadGltf(opts->scenePath);
         const nlohmann::json j = describe(scene, opts->subdivision);

@@ -16,6 +16,15 @@
 
 namespace hemibake {
 
+// What cutting faces along solids did (mesh/solid_cuts.h).
+struct SolidCutStats {
+    std::size_t solids = 0;         // closed solids found
+    std::size_t facesCut = 0;       // input triangles split into pieces
+    std::size_t facesDropped = 0;   // input triangles with nothing left outside the solids
+    std::size_t piecesDropped = 0;  // pieces of cut triangles inside a solid
+    double areaDroppedM2 = 0.0;     // area inside solids, removed
+};
+
 struct ElementArrays {
     std::vector<glm::dvec3> vertices;                   // world space, shared between elements of one instance side
     std::vector<glm::vec2> vertexLightmapUv;            // TEXCOORD_1 per vertex (0,0 until UVs exist)
@@ -53,6 +62,7 @@ struct PatchMesh {
     // world origin keeps sub-millimetre precision. It is the centre of the scene's bounds.
     glm::dvec3 origin{0.0};
     double sceneDiagonalM = 0.0;
+    SolidCutStats solidCuts;  // what cutting along solids did (mesh/solid_cuts.h); zero when off
 };
 
 // Recomputes patch p's area, centroid, normal and area-weighted reflectance and emission from its elements, as
@@ -64,6 +74,9 @@ struct SubdivisionSettings {
     double patchSizeM = 0.25;         // longest edge of a shooting patch
     double elementSizeM = 0.05;       // longest edge of a receiving element (≤ patch size)
     double emitterPatchSizeM = 0.0;   // longest edge of an emitter patch; 0 = patchSizeM / 4
+    // Cut faces where closed solids cross them and drop the buried parts (mesh/solid_cuts.h), so no patch or
+    // element lies on both sides of a wall standing in a slab. Typical: on.
+    bool cutAlongSolids = true;
 };
 
 }  // namespace hemibake

@@ -6,9 +6,15 @@
 #include <limits>
 #include <sstream>
 #include <map>
+#include <numeric>
 #include <unordered_map>
 
+#include <optional>
+
+#include <tbb/parallel_for.h>
+
 #include "mesh/errors.h"
+#include "mesh/solid_cuts.h"
 
 namespace hemibake {
 
@@ -82,13 +88,40 @@ private:
     const std::vector<RefinementRequest::Region>* regions_ = nullptr;
 };
 
-RefinedInstance refine(const MeshInstance& instance, double patchSizeM, double elementSizeM, const RefinementLookup& lookup) {
+// Patches are the faces of the mesh bisected to the patch size; where solids cut a face (solids given), each
+// connected group of its kept pieces is one patch, so a patch never spans a wall while its pieces stay together.
+RefinedInstance refine(const MeshInstance& instance, std::size_t instanceIndex, const SolidSet* solids, bool doubleSided,
+                       double patchSizeM, double elementSizeM, const RefinementLookup& lookup, SolidCutStats& cutStats) {
     RefinedInstance r;
     r.mesh = instance.mesh;
-    r.mesh.add_property(r.patchOfFace);
     bisectLongEdges(r.mesh, patchSizeM);
-    for (auto f : r.mesh.faces()) r.mesh.property(r.patchOfFace, f) = f.idx();
+    std::vector<int> patchOf(r.mesh.n_faces());
+    for (auto f : r.mesh.faces()) patchOf[std::size_t(f.idx())] = f.idx();
     r.patchCount = int(r.mesh.n_faces());
+    if (solids) {
+        std::vector<int> fromFace;
+        r.mesh = cutAlongSolids(r.mesh, instanceIndex, *solids, doubleSided, &cutStats, &fromFace);
+        // Pieces of one patch face that share a vertex are one patch (pieces on two sides of a wall never do).
+        std::vector<int> parent(r.mesh.n_faces());
+        std::iota(parent.begin(), parent.end(), 0);
+        auto root = [&](int i) {
+            while (parent[std::size_t(i)] != i) i = parent[std::size_t(i)] = parent[std::size_t(parent[std::size_t(i)])];
+            return i;
+        };
+        std::map<std::pair<int, int>, int> faceAtVertex;
+        for (auto f : r.mesh.faces())
+            for (auto v : r.mesh.fv_range(f)) {
+                const auto [it, added] = faceAtVertex.emplace(std::pair{v.idx(), fromFace[std::size_t(f.idx())]}, f.idx());
+                if (!added) parent[std::size_t(root(f.idx()))] = root(it->second);
+            }
+        std::map<int, int> patchOfRoot;
+        patchOf.assign(r.mesh.n_faces(), 0);
+        for (auto f : r.mesh.faces())
+            patchOf[std::size_t(f.idx())] = patchOfRoot.emplace(root(f.idx()), int(patchOfRoot.size())).first->second;
+        r.patchCount = int(patchOfRoot.size());
+    }
+    r.mesh.add_property(r.patchOfFace);
+    for (auto f : r.mesh.faces()) r.mesh.property(r.patchOfFace, f) = patchOf[std::size_t(f.idx())];
     bisectLongEdges(r.mesh, std::min(elementSizeM, patchSizeM));
     bisectLongEdges(r.mesh, [&](const glm::dvec3& c) { return lookup.sizeAt(c); });
     return r;
@@ -136,7 +169,6 @@ std::size_t conformBoundaries(std::vector<RefinedInstance>& parts, double tolM, 
                         auto it = grid.find(key(x, y, z));
                         if (it == grid.end()) continue;
                         for (const BoundaryVertex& bv : it->second) {
-                            if (bv.part == i) continue;
                             const double t = glm::dot(bv.p - a, ab) / len2;
                             if (t <= tTol || t >= 1.0 - tTol) continue;
                             if (glm::length(a + t * ab - bv.p) > tolM) continue;
@@ -265,16 +297,28 @@ PatchMesh subdivide(const Scene& scene, const SubdivisionSettings& settings, con
     ElementArrays& el = out.elements;
     PatchArrays& pa = out.patches;
 
-    std::vector<RefinedInstance> refined;
-    refined.reserve(scene.instances.size());
-    for (const MeshInstance& instance : scene.instances) {
+    // Tolerance: well above float rounding of glTF input coordinates, well below any modelled gap (1 mm walls).
+    const double tolM = 1e-7 * std::max(out.sceneDiagonalM, 1e-12);
+    std::optional<SolidSet> solids;
+    if (settings.cutAlongSolids) solids.emplace(scene, tolM);
+    std::vector<RefinedInstance> refined(scene.instances.size());
+    std::vector<SolidCutStats> cutStats(scene.instances.size());
+    tbb::parallel_for(std::size_t(0), scene.instances.size(), [&](std::size_t i) {
+        const MeshInstance& instance = scene.instances[i];
         const Material& material = scene.materials[std::size_t(instance.material)];
         const double patchSize = material.isEmissive() ? std::min(settings.patchSizeM, emitterPatchSize(settings))
                                                        : settings.patchSizeM;
-        refined.push_back(refine(instance, patchSize, settings.elementSizeM, lookup));
+        refined[i] = refine(instance, i, solids && solids->size() > 0 ? &*solids : nullptr, material.doubleSided,
+                            patchSize, settings.elementSizeM, lookup, cutStats[i]);
+    });
+    for (const SolidCutStats& c : cutStats) {
+        out.solidCuts.facesCut += c.facesCut;
+        out.solidCuts.facesDropped += c.facesDropped;
+        out.solidCuts.piecesDropped += c.piecesDropped;
+        out.solidCuts.areaDroppedM2 += c.areaDroppedM2;
     }
-    // Tolerance: well above float rounding of glTF input coordinates, well below any modelled gap (1 mm walls).
-    conformBoundaries(refined, 1e-7 * std::max(out.sceneDiagonalM, 1e-12), std::max(settings.elementSizeM, 1e-9));
+    out.solidCuts.solids = solids ? solids->size() : 0;
+    conformBoundaries(refined, tolM, std::max(settings.elementSizeM, 1e-9));
 
     for (std::size_t instIndex = 0; instIndex < scene.instances.size(); ++instIndex) {
         const MeshInstance& instance = scene.instances[instIndex];

@@ -29,6 +29,7 @@ void visitKnobs(BakeSettings& s, Visitor&& v) {
     v("patchSizeM", sub.patchSizeM);
     v("elementSizeM", sub.elementSizeM);
     v("emitterPatchSizeM", sub.emitterPatchSizeM);
+    v("cutAlongSolids", sub.cutAlongSolids);
     v("exposureSamplesPerSide", ex.samplesPerSide);
     v("exposureScreenSamplesPerSide", ex.screenSamplesPerSide);
     v("exposureRayStrata", ex.rayStrata);
