@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <mutex>
 
 #include <tbb/parallel_for.h>
 
@@ -215,25 +216,50 @@ private:
     std::size_t rendered_ = 0;
 };
 
-// Texels inside geometry saw mostly back faces: take the mean of valid continuous neighbours (a few rings).
-void refillInvalid(const AtlasTexels& texels, double texelSizeM, std::vector<glm::dvec3>& value,
+// Texels inside geometry saw mostly back faces: each takes the mean of its valid continuous neighbours (a few rings).
+// Under a wall's foot those neighbours lie on two sides that cannot see each other, and whatever value the texel gets
+// reaches both sides through the GPU's bilinear filter: so the neighbours are grouped by mutual visibility and the
+// darkest side's mean is taken. A light leak along a dark room's wall foot is what users notice; a slightly darker
+// line at the lit room's wall foot reads as the contact shadow that is there anyway.
+void refillInvalid(const AtlasTexels& texels, double texelSizeM, const EmbreeScene& rays, std::vector<glm::dvec3>& value,
                    std::vector<std::uint8_t>& invalid) {
     const TexelGrid grid(texels);
     for (int ring = 0; ring < 4; ++ring) {
         std::vector<std::pair<std::size_t, glm::dvec3>> fixes;
-        for (std::size_t i = 0; i < texels.count(); ++i) {
-            if (!invalid[i]) continue;
-            glm::dvec3 sum(0.0);
-            int count = 0;
+        std::mutex fixesMutex;
+        tbb::parallel_for(std::size_t(0), texels.count(), [&](std::size_t i) {
+            if (!invalid[i]) return;
+            struct Side {
+                std::size_t first;  // a member the others can see
+                glm::dvec3 sum{0.0};
+                int count = 0;
+            };
+            std::vector<Side> sides;
             for (int dy = -1; dy <= 1; ++dy)
                 for (int dx = -1; dx <= 1; ++dx) {
                     const std::int32_t j = grid.find(texels.x[i] + dx, texels.y[i] + dy);
                     if (j < 0 || invalid[std::size_t(j)] || !continuous(texels, i, std::size_t(j), 3.0 * texelSizeM)) continue;
-                    sum += value[std::size_t(j)];
-                    ++count;
+                    const auto jj = std::size_t(j);
+                    auto side = std::find_if(sides.begin(), sides.end(), [&](const Side& s) {
+                        return !rays.occluded(texels.position[s.first], texels.position[jj]);
+                    });
+                    if (side == sides.end()) side = sides.insert(sides.end(), Side{jj});
+                    side->sum += value[jj];
+                    ++side->count;
                 }
-            if (count) fixes.emplace_back(i, sum / double(count));
-        }
+            if (sides.empty()) return;
+            glm::dvec3 fill(0.0);
+            double darkest = std::numeric_limits<double>::infinity();
+            for (const Side& s : sides) {
+                const glm::dvec3 mean = s.sum / double(s.count);
+                if (channelSum(mean) < darkest) {
+                    darkest = channelSum(mean);
+                    fill = mean;
+                }
+            }
+            const std::lock_guard<std::mutex> lock(fixesMutex);
+            fixes.emplace_back(i, fill);
+        });
         if (fixes.empty()) break;
         for (const auto& [i, v] : fixes) {
             value[i] = v;
@@ -320,7 +346,7 @@ public:
         std::vector<std::uint8_t> invalid;
         AdaptivePlacer(t, settings_, texelSizeM, rays_, gather, directValue, stats).run(value, invalid, advanced);
         stats.invalid += std::size_t(std::count(invalid.begin(), invalid.end(), 1));
-        refillInvalid(t, texelSizeM, value, invalid);
+        refillInvalid(t, texelSizeM, rays_, value, invalid);
         for (std::size_t i = 0; i < directValue.size(); ++i) value[i] += directValue[i];
         return value;
     }

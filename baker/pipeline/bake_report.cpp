@@ -94,6 +94,11 @@ nlohmann::json BakeReport::toJson() const {
                   {"escapedW", vec(solve.escapedPowerW)},
                   {"backfaceW", vec(solve.backfacePowerW)},
                   {"unshotW", vec(solve.unshotPowerW)}};
+    j["solidCuts"] = {{"solids", solidCuts.solids},
+                      {"facesCut", solidCuts.facesCut},
+                      {"facesDropped", solidCuts.facesDropped},
+                      {"piecesDropped", solidCuts.piecesDropped},
+                      {"areaDroppedM2", solidCuts.areaDroppedM2}};
     j["exposedArea"] = {{"elementsTrimmed", exposedArea.elementsTrimmed},
                         {"elementsCovered", exposedArea.elementsCovered},
                         {"areaRemovedM2", exposedArea.areaRemovedM2}};

@@ -69,6 +69,7 @@ struct BakeReport {
     std::size_t patches = 0, elements = 0, triangles = 0;
     std::vector<std::string> warnings;
     SolveReport solve;
+    SolidCutStats solidCuts;  // faces cut along solids before subdivision (mesh/solid_cuts.h)
     ExposedAreaReport exposedArea;
     SideSeparationReport sides;
     RefinementReport refinement;

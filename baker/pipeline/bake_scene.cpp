@@ -109,6 +109,7 @@ private:
         report.solve = solved.report;
         report.patches = solved.mesh.patches.size();
         report.elements = solved.mesh.elements.size();
+        report.solidCuts = solved.mesh.solidCuts;
         report.exposedArea = solved.exposedArea;
         report.sides = solved.sides;
         report.refinement = {solved.elementsBeforeRefinement, solved.mesh.elements.size(), solved.refinementRegions,
