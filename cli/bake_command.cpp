@@ -135,7 +135,7 @@ CommandRunner addBakeCommand(CLI::App& app) {
                     "presets 1 (draft, medium), 1/2 (high), 1/3 (ultra: 0.8-0.9 m elements in 5 m rooms, whatever the "
                     "level's size); 0 = sizes from the scene diagonal only")
         ->check(CLI::Range(0.0, 10.0));
-    cmd->add_option("--emitter-patch-size", o->emitterPatchSize, "Longest edge of an emitter patch, metres (default patch size / 4)")
+    cmd->add_option("--emitter-patch-size", o->emitterPatchSize, "Longest edge of an emitter patch, metres (default: the patch size when rays carry the emitters' light, else patch size / 4, so hemicube emitters shoot from close enough)")
         ->check(CLI::PositiveNumber);
     cmd->add_option("--hemicube-res", o->hemicubeRes,
                     "Hemicube resolution R (front face R×R pixels); form-factor error falls as ~R^-1.5 (docs/accuracy.md)")

@@ -73,7 +73,8 @@ void recomputePatchSums(PatchMesh& mesh, std::size_t p);
 struct SubdivisionSettings {
     double patchSizeM = 0.25;         // longest edge of a shooting patch
     double elementSizeM = 0.05;       // longest edge of a receiving element (≤ patch size)
-    double emitterPatchSizeM = 0.0;   // longest edge of an emitter patch; 0 = patchSizeM / 4
+    double emitterPatchSizeM = 0.0;   // longest edge of an emitter patch; 0 = patchSizeM / 4 (the solve
+                                      // uses patchSizeM when rays carry emitters' light: baker/solve/solve_scene.cpp)
     // Cut faces where closed solids cross them and drop the buried parts (mesh/solid_cuts.h), so no patch or
     // element lies on both sides of a wall standing in a slab. Typical: on.
     bool cutAlongSolids = true;

@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <map>
 #include <stdexcept>
+#include <tuple>
 
 #include "baker/rays/embree_scene.h"
 #include "mesh/frame_math.h"
@@ -29,26 +31,84 @@ int clipAbove(const glm::dvec3& p, const glm::dvec3& n, const glm::dvec3* in, in
     return k;
 }
 
+// Van der Corput's radical inverse in base 2: i's bits mirrored about the binary point.
+double radicalInverse2(std::uint32_t i) {
+    i = (i << 16) | (i >> 16);
+    i = ((i & 0x00ff00ffu) << 8) | ((i & 0xff00ff00u) >> 8);
+    i = ((i & 0x0f0f0f0fu) << 4) | ((i & 0xf0f0f0f0u) >> 4);
+    i = ((i & 0x33333333u) << 2) | ((i & 0xccccccccu) >> 2);
+    i = ((i & 0x55555555u) << 1) | ((i & 0xaaaaaaaau) >> 1);
+    return double(i) * 0x1p-32;
+}
+
 }  // namespace
 
 EmissiveAreaLights::EmissiveAreaLights(const PatchMesh& mesh, const EmbreeScene& rays, int samplesPerPoint)
     : rays_(rays), samples_(samplesPerPoint) {
     if (samplesPerPoint < 1) throw std::invalid_argument("EmissiveAreaLights: samplesPerPoint must be at least 1");
     const ElementArrays& el = mesh.elements;
-    for (std::size_t e = 0; e < el.size(); ++e) {
-        const glm::dvec3 radiance(el.emittedRadiance[e]);
-        if (!(radiance.x > 0.0 || radiance.y > 0.0 || radiance.z > 0.0)) continue;
+    auto triangleOf = [](const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, const glm::dvec3& radiance) {
         Triangle t;
-        t.a = el.vertices[el.triangles[e][0]];
-        t.b = el.vertices[el.triangles[e][1]];
-        t.c = el.vertices[el.triangles[e][2]];
-        const glm::dvec3 cross = glm::cross(t.b - t.a, t.c - t.a);
+        t.a = a;
+        t.b = b;
+        t.c = c;
+        const glm::dvec3 cross = glm::cross(b - a, c - a);
         const double twiceArea = glm::length(cross);
-        if (!(twiceArea > 0.0)) continue;  // degenerate: emits nothing
-        t.normal = cross / twiceArea;
+        t.normal = twiceArea > 0.0 ? cross / twiceArea : glm::dvec3(0.0);
         t.areaM2 = 0.5 * twiceArea;
         t.radiance = radiance;
-        triangles_.push_back(t);
+        return t;
+    };
+    // The cost per point is one contour integral per triangle, so the elements bisected from one input triangle are
+    // merged back into it: an emitting face cut into 1,000 elements is still one light. A group is merged only when
+    // its elements tile a triangle exactly (their areas sum to the area of the triangle spanned by their extreme
+    // vertices, and they share one plane and one radiance); faces cut along solids or trimmed to their exposed
+    // area stay as their elements.
+    std::map<std::tuple<std::uint32_t, std::uint32_t, std::uint8_t>, std::vector<std::uint32_t>> groups;
+    for (std::uint32_t e = 0; e < el.size(); ++e) {
+        const glm::vec3 l = el.emittedRadiance[e];
+        if (l.x > 0.0f || l.y > 0.0f || l.z > 0.0f) groups[{el.instance[e], el.sourceFace[e], el.backSide[e]}].push_back(e);
+    }
+    for (const auto& [key, members] : groups) {
+        const glm::dvec3 radiance(el.emittedRadiance[members[0]]);
+        double area = 0.0;
+        bool uniform = true;
+        for (std::uint32_t e : members) {
+            area += el.areaM2[e];
+            uniform &= el.emittedRadiance[e] == el.emittedRadiance[members[0]];
+        }
+        if (members.size() > 1 && uniform) {
+            // The triangle of the group's extreme vertices: the farthest pair, then the vertex farthest from their line.
+            const glm::dvec3 first = el.vertices[el.triangles[members[0]][0]];
+            glm::dvec3 a = first, b = first, c = first;
+            for (std::uint32_t e : members)
+                for (std::uint32_t v : el.triangles[e])
+                    if (glm::length(el.vertices[v] - first) > glm::length(a - first)) a = el.vertices[v];
+            for (std::uint32_t e : members)
+                for (std::uint32_t v : el.triangles[e])
+                    if (glm::length(el.vertices[v] - a) > glm::length(b - a)) b = el.vertices[v];
+            double best = 0.0;
+            for (std::uint32_t e : members)
+                for (std::uint32_t v : el.triangles[e]) {
+                    const double twice = glm::length(glm::cross(b - a, el.vertices[v] - a));
+                    if (twice > best) {
+                        best = twice;
+                        c = el.vertices[v];
+                    }
+                }
+            Triangle whole = triangleOf(a, b, c, radiance);
+            const glm::dvec3 n(el.normal[members[0]]);
+            if (glm::dot(whole.normal, n) < 0.0) whole = triangleOf(a, c, b, radiance);
+            if (whole.areaM2 > 0.0 && std::abs(whole.areaM2 - area) <= 1e-9 * whole.areaM2 && glm::dot(whole.normal, n) > 0.999) {
+                triangles_.push_back(whole);
+                continue;
+            }
+        }
+        for (std::uint32_t e : members) {
+            const Triangle t = triangleOf(el.vertices[el.triangles[e][0]], el.vertices[el.triangles[e][1]],
+                                          el.vertices[el.triangles[e][2]], glm::dvec3(el.emittedRadiance[e]));
+            if (t.areaM2 > 0.0) triangles_.push_back(t);  // a degenerate element emits nothing
+        }
     }
 }
 
@@ -100,13 +160,19 @@ glm::dvec3 EmissiveAreaLights::irradianceOverPiAt(const glm::dvec3& p, const glm
     const glm::dvec3 origin = rays_.offsetFromSurface(p, n);
     glm::dvec3 weighted(0.0), visible(0.0);
     std::uint64_t state = splitMix64(seed);
+    const double rotation = unitDouble(state = splitMix64(state));
     for (int s = 0; s < samples_; ++s) {
         const double u = (s + unitDouble(state = splitMix64(state))) / samples_;  // stratified over the CDF
         const std::size_t pick = std::min<std::size_t>(
             std::size_t(std::upper_bound(cdf.begin(), cdf.end(), u * total) - cdf.begin()), cdf.size() - 1);
         const Triangle& t = triangles_[index[pick]];
-        const double pdf = (cdf[pick] - (pick ? cdf[pick - 1] : 0.0)) / total;
-        double r1 = unitDouble(state = splitMix64(state)), r2 = unitDouble(state = splitMix64(state));
+        const double below = pick ? cdf[pick - 1] : 0.0;
+        const double pdf = (cdf[pick] - below) / total;
+        // Points spread over the triangle, not only over the triangles: the stratum's place within the triangle's
+        // share of the CDF (stratified) and a rotated radical inverse (Hammersley-like), so a lamp that is one
+        // triangle keeps its penumbrae as smooth as the same lamp split into many elements.
+        const double r1 = std::clamp((u * total - below) / std::max(cdf[pick] - below, 1e-300), 0.0, std::nextafter(1.0, 0.0));
+        const double r2 = std::fmod(radicalInverse2(std::uint32_t(s)) + rotation, 1.0);
         const double sq = std::sqrt(r1);
         const glm::dvec3 x = (1.0 - sq) * t.a + sq * (1.0 - r2) * t.b + sq * r2 * t.c;
         const glm::dvec3 d = x - p;
@@ -127,10 +193,9 @@ glm::dvec3 EmissiveAreaLights::irradianceOverPiAt(const glm::dvec3& p, const glm
 std::unique_ptr<EmissiveAreaLights> makeEmissiveAreaLights(const PatchMesh& mesh, const EmbreeScene& rays,
                                                            const LightingSettings& lighting, int samplesPerPoint) {
     if (lighting.emitters != EmitterLighting::Rays) return nullptr;
-    std::size_t emitting = 0;
-    for (const glm::vec3& l : mesh.elements.emittedRadiance) emitting += (l.x > 0.0f || l.y > 0.0f || l.z > 0.0f);
-    if (emitting == 0 || emitting > std::size_t(std::max(lighting.maxRayTracedEmitters, 0))) return nullptr;
-    return std::make_unique<EmissiveAreaLights>(mesh, rays, samplesPerPoint > 0 ? samplesPerPoint : lighting.emitterSamples);
+    auto lights = std::make_unique<EmissiveAreaLights>(mesh, rays, samplesPerPoint > 0 ? samplesPerPoint : lighting.emitterSamples);
+    if (lights->empty() || lights->triangleCount() > std::size_t(std::max(lighting.maxRayTracedEmitters, 0))) return nullptr;
+    return lights;
 }
 
 }  // namespace hemibake

@@ -131,11 +131,11 @@ std::size_t splitPatchesBySide(const EmbreeScene& rays, PatchMesh& mesh, const S
                 // centroid (an element at a wall's foot, mostly buried, with its open strip in one room).
                 double best = std::numeric_limits<double>::infinity();
                 forEachSubTriangleCentroid(settings.samplesPerSide, [&](double wa, double wb) {
-                    const glm::dvec3 p = pointOnElement(el, e, wa, wb);
-                    const double d2 = glm::dot(p - el.centroid[e], p - el.centroid[e]);
-                    if (d2 >= best || buried(rays, p + lift * n, n)) return;
+                    const glm::dvec3 q = pointOnElement(el, e, wa, wb);
+                    const double d2 = glm::dot(q - el.centroid[e], q - el.centroid[e]);
+                    if (d2 >= best || buried(rays, q + lift * n, n)) return;
                     best = d2;
-                    lifted[k] = p + lift * n;
+                    lifted[k] = q + lift * n;
                     isBuried[k] = 0;
                 });
             }

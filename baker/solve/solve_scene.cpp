@@ -8,8 +8,29 @@ namespace hemibake {
 SolvedScene::SolvedScene() = default;
 SolvedScene::~SolvedScene() = default;
 
-std::unique_ptr<SolvedScene> solveScene(const Scene& scene, const SolveSettings& settings, const EmbreeScene& rays,
+namespace {
+
+// Emitter patches are a quarter of the patch size so that emitters shooting their light through hemicubes do it
+// from close enough (GROUND_TRUTH §3.4). When rays carry the emitters' light (LightingSettings::emitters = Rays and
+// few enough emitter triangles), an emitter patch shoots only what it reflects, like any patch: the finer size
+// would multiply patches and shots for nothing (a closed cube emitting on every face: 15k patches instead of 1k).
+SolveSettings withEmitterPatchSize(const Scene& scene, SolveSettings settings) {
+    if (settings.lighting.emitters != EmitterLighting::Rays || settings.subdivision.emitterPatchSizeM > 0.0) return settings;
+    std::size_t emitterTriangles = 0;
+    for (const MeshInstance& instance : scene.instances) {
+        const Material& material = scene.materials[std::size_t(instance.material)];
+        if (material.isEmissive()) emitterTriangles += instance.mesh.n_faces() * (material.doubleSided ? 2u : 1u);
+    }
+    if (emitterTriangles > 0 && emitterTriangles <= std::size_t(std::max(settings.lighting.maxRayTracedEmitters, 0)))
+        settings.subdivision.emitterPatchSizeM = settings.subdivision.patchSizeM;
+    return settings;
+}
+
+}  // namespace
+
+std::unique_ptr<SolvedScene> solveScene(const Scene& scene, const SolveSettings& requested, const EmbreeScene& rays,
                                         const SolveProgress& progress) {
+    const SolveSettings settings = withEmitterPatchSize(scene, requested);
     auto owned = std::make_unique<SolvedScene>();
     SolvedScene& solved = *owned;
     // Subdivides (with `request`'s refinement regions), trims to exposed areas and solves from scratch.

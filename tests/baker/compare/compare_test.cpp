@@ -204,7 +204,9 @@ FakeBake writeBake(const fs::path& dir, const std::string& scenePath,
                    const std::function<glm::vec3(std::size_t, std::size_t, int)>& value) {
     const double texelsPerUnit = 16.0;
     const Scene scene = loadGltf(scenePath);
-    const UvAtlas atlas = unwrapScene(scene, unwrapSettingsFor(LightmapSettings{.texelsPerUnit = texelsPerUnit}));
+    LightmapSettings lightmap;
+    lightmap.texelsPerUnit = texelsPerUnit;
+    const UvAtlas atlas = unwrapScene(scene, unwrapSettingsFor(lightmap));
     const std::vector<AtlasTexels> texels = computeTexels(scene, atlas);
     nlohmann::json files = nlohmann::json::array(), primitives = nlohmann::json::array();
     FakeBake bake;

@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include "baker/solve/solve_scene.h"
+
 #include "baker/direct/emissive_area_lights.h"
 #include "baker/rays/embree_scene.h"
 #include "mesh/scene_builder.h"
@@ -76,7 +78,7 @@ TEST(EmissiveAreaLights, UnshadowedPointsGetTheExactValueWhateverTheSeed) {
     const EmbreeScene rays(scene);
     const PatchMesh mesh = meshOf(scene);
     const EmissiveAreaLights lights(mesh, rays, 16);
-    EXPECT_GT(lights.triangleCount(), 2u);  // the lamp's emitter elements
+    EXPECT_EQ(lights.triangleCount(), 2u);  // the lamp quad, however finely its elements split it
     EXPECT_NEAR(lights.emittedPowerW(), 3.0 * M_PI * le, 1e-9);
     for (const glm::dvec3& p : {glm::dvec3(0.5, 0, 0.5), glm::dvec3(0.1, 0, 0.9), glm::dvec3(0.97, 0, 0.02)}) {
         // Lamp [0,1]² at height 0.5 from p = four corner-aligned rectangles (§1(d)).
@@ -177,4 +179,45 @@ TEST(EmissiveAreaLights, ClosedBoxClosesAtEdgesAndCorners) {
             EXPECT_NEAR(got.x, 1.0, 1e-9) << "floor point " << p.x << ", " << p.z;
         }
     }
+}
+
+// The elements bisected from one input triangle are one light (one contour integral per point, not one per element),
+// with the same unoccluded value: a lamp quad cut into 128 elements is two triangles.
+TEST(EmissiveAreaLights, ElementsOfOneInputTriangleAreOneLight) {
+    const Scene scene = lampOverFloor(1.0, 3.0f, false);
+    const EmbreeScene rays(scene);
+    const PatchMesh fine = subdivide(scene, SubdivisionSettings{0.25, 0.125, 0.25});
+    std::size_t lampElements = 0;
+    for (const glm::vec3& l : fine.elements.emittedRadiance) lampElements += l.x > 0.0f;
+    ASSERT_GT(lampElements, 100u);
+    const EmissiveAreaLights lights(fine, rays, 16);
+    EXPECT_EQ(lights.triangleCount(), 2u);
+    EXPECT_NEAR(lights.emittedPowerW(), 3.0 * M_PI * 3.0, 1e-9);
+    // §1(d) at the floor's corner, unshadowed: exact whatever the split.
+    const glm::dvec3 p(0.0, 0.0, 0.0), n(0.0, 1.0, 0.0);
+    EXPECT_NEAR(lights.irradianceOverPiAt(p, n, 7).x, 3.0 * parallelCorner(1.0, 1.0, 1.0), 1e-9);
+}
+
+// A closed cube emitting on every face (ρ 0.9): its 12 input triangles are lit by rays at the default limit, however
+// finely the faces are split, and the furnace comes out at L_e/(1 − ρ).
+TEST(EmissiveAreaLights, CubeEmittingOnEveryFaceStaysRayTraced) {
+    SolveSettings s;
+    s.subdivision = {0.5, 0.125, 0.0};  // about 800 emitting elements, far above the limit of 64 set below
+    s.solver.hemicubeResolution = 32;
+    s.lighting.emitters = EmitterLighting::Rays;
+    s.lighting.maxRayTracedEmitters = 64;
+    const Scene scene = furnace(0.9f, 1.0f, false);
+    const EmbreeScene rays(scene);
+    const auto solved = solveScene(scene, s, rays);
+    ASSERT_TRUE(solved->report.emittersByRays);
+    // Emitter patches at the patch size, not a quarter of it: they shoot only what they reflect.
+    EXPECT_EQ(solved->mesh.patches.size(), 6u * 16u);  // a face: 2 triangles bisected 3 times to edges ≤ 0.5 m
+    glm::dvec3 sum(0.0);
+    double area = 0.0;
+    for (std::size_t e = 0; e < solved->mesh.elements.size(); ++e) {
+        sum += solved->solution.displayIrradiance(e) * solved->mesh.elements.areaM2[e];
+        area += solved->mesh.elements.areaM2[e];
+    }
+    const glm::dvec3 mean = sum / area / M_PI;
+    for (int ch = 0; ch < 3; ++ch) EXPECT_NEAR(mean[ch], 10.0, 0.005 * 10.0);
 }

@@ -53,9 +53,11 @@ TEST_P(SealedRoom, StaysExactlyDark) {
     EXPECT_GT(litSum / double(lit), 0.1);
     EXPECT_EQ(darkMax, 0.0);
     const ElementArrays& el = result.solved->mesh.elements;
-    for (std::size_t e = 0; e < el.size(); ++e)
-        if (scene.instances[el.instance[e]].source.nodeName.rfind("dark room", 0) == 0)
+    for (std::size_t e = 0; e < el.size(); ++e) {
+        if (scene.instances[el.instance[e]].source.nodeName.rfind("dark room", 0) == 0) {
             ASSERT_EQ(result.solved->solution.displayIrradiance(e), glm::dvec3(0.0)) << "element " << e;
+        }
+    }
 }
 
 INSTANTIATE_TEST_SUITE_P(EveryPreset, SealedRoom, ::testing::Values("draft", "medium", "high", "ultra"));
