@@ -23,6 +23,15 @@ struct SolidCutStats {
     std::size_t facesDropped = 0;   // input triangles with nothing left outside the solids
     std::size_t piecesDropped = 0;  // pieces of cut triangles inside a solid
     double areaDroppedM2 = 0.0;     // area inside solids, removed
+
+    // Adds another mesh's counts (`solids` is the scene's, not summed).
+    SolidCutStats& operator+=(const SolidCutStats& o) {
+        facesCut += o.facesCut;
+        facesDropped += o.facesDropped;
+        piecesDropped += o.piecesDropped;
+        areaDroppedM2 += o.areaDroppedM2;
+        return *this;
+    }
 };
 
 struct ElementArrays {

@@ -3,19 +3,16 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
-#include <numeric>
 #include <tuple>
+
+#include "mesh/cell_key.h"
+#include "mesh/union_find.h"
 
 namespace hemibake {
 
 namespace {
 
 glm::dvec3 toGlm(const OpenMesh::Vec3d& p) { return {p[0], p[1], p[2]}; }
-
-std::uint64_t cellKey(std::int64_t x, std::int64_t y, std::int64_t z) {
-    return std::uint64_t(x) * 0x9E3779B97F4A7C15ull ^ std::uint64_t(y) * 0xC2B2AE3D27D4EB4Full ^
-           std::uint64_t(z) * 0x165667B19E3779F9ull;
-}
 
 struct PositionLess {
     bool operator()(const glm::dvec3& a, const glm::dvec3& b) const {
@@ -24,11 +21,6 @@ struct PositionLess {
         return a.z < b.z;
     }
 };
-
-int findRoot(std::vector<int>& parent, int i) {
-    while (parent[std::size_t(i)] != i) i = parent[std::size_t(i)] = parent[std::size_t(parent[std::size_t(i)])];
-    return i;
-}
 
 // Snaps a signed distance within the tolerance to exactly 0 (the point is on the plane).
 double snapped(double d, double tol) { return std::abs(d) <= tol ? 0.0 : d; }
@@ -122,6 +114,14 @@ std::pair<int, int> commonEdge(const PieceVertex& u, const PieceVertex& v) {
     return (u.a == v.a && u.b == v.b) ? std::pair{u.a, u.b} : std::pair{-1, -1};
 }
 
+// Area of a convex piece (a fan from its first vertex).
+double pieceArea(const Piece& piece) {
+    double area = 0.0;
+    for (std::size_t i = 1; i + 1 < piece.size(); ++i)
+        area += 0.5 * glm::length(glm::cross(piece[i].p - piece[0].p, piece[i + 1].p - piece[0].p));
+    return area;
+}
+
 struct OutVertex {
     glm::dvec3 p;
     OpenMesh::Vec3d normal;
@@ -141,20 +141,19 @@ SolidSet::SolidSet(const Scene& scene, double toleranceM) : toleranceM_(toleranc
         std::vector<int> welded(m.n_vertices());
         for (auto v : m.vertices())
             welded[std::size_t(v.idx())] = weld.emplace(toGlm(m.point(v)), int(weld.size())).first->second;
-        std::vector<int> parent(weld.size());
-        std::iota(parent.begin(), parent.end(), 0);
+        UnionFind parts(weld.size());
         std::vector<std::array<int, 3>> tri(m.n_faces());
         for (auto f : m.faces()) {
             int k = 0;
             for (auto v : m.fv_range(f)) tri[std::size_t(f.idx())][std::size_t(k++)] = welded[std::size_t(v.idx())];
             const auto& t = tri[std::size_t(f.idx())];
-            parent[std::size_t(findRoot(parent, t[1]))] = findRoot(parent, t[0]);
-            parent[std::size_t(findRoot(parent, t[2]))] = findRoot(parent, t[0]);
+            parts.unite(std::uint32_t(t[0]), std::uint32_t(t[1]));
+            parts.unite(std::uint32_t(t[0]), std::uint32_t(t[2]));
         }
-        std::map<int, int> componentOfRoot;
+        std::map<std::uint32_t, int> componentOfRoot;
         std::vector<int> component(m.n_faces());
         for (std::size_t f = 0; f < tri.size(); ++f)
-            component[f] = componentOfRoot.emplace(findRoot(parent, tri[f][0]), int(componentOfRoot.size())).first->second;
+            component[f] = componentOfRoot.emplace(parts.find(std::uint32_t(tri[f][0])), int(componentOfRoot.size())).first->second;
         std::vector<int>& bySource = faceComponent_[inst];
         for (auto f : m.faces()) {
             const int src = m.sourceFace(f);
@@ -455,31 +454,25 @@ SurfaceMesh cutAlongSolids(const SurfaceMesh& mesh, std::size_t instance, const 
             return false;
         };
         const double faceArea = 0.5 * glm::length(glm::cross(p[1] - p[0], p[2] - p[0]));
-        std::size_t kept = 0;
         std::vector<const Piece*> keep;
         for (const Piece& piece : pieces) {
             glm::dvec3 centre(0.0);
             for (const PieceVertex& v : piece) centre += v.p;
             centre /= double(piece.size());
             const bool buried = covered(centre + lift * normal) && (!doubleSided || covered(centre - lift * normal));
-            if (!buried) {
+            if (buried)
+                local.areaDroppedM2 += pieceArea(piece);
+            else
                 keep.push_back(&piece);
-                ++kept;
-            } else {
-                double area = 0.0;
-                for (std::size_t i = 1; i + 1 < piece.size(); ++i)
-                    area += 0.5 * glm::length(glm::cross(piece[i].p - piece[0].p, piece[i + 1].p - piece[0].p));
-                local.areaDroppedM2 += area;
-            }
         }
         if (pieces.size() == 1) {
-            if (kept == 1) faces.push_back({ids, f.idx()});
+            if (keep.size() == 1) faces.push_back({ids, f.idx()});
             else ++local.facesDropped;
             continue;
         }
         ++local.facesCut;
-        local.piecesDropped += pieces.size() - kept;
-        if (kept == 0) ++local.facesDropped;
+        local.piecesDropped += pieces.size() - keep.size();
+        if (keep.empty()) ++local.facesDropped;
 
         // Attributes of new vertices from the input triangle's corners.
         std::array<SurfaceMesh::VertexHandle, 3> corner;
@@ -511,10 +504,7 @@ SurfaceMesh cutAlongSolids(const SurfaceMesh& mesh, std::size_t instance, const 
             if (piece.size() < 3) continue;
             for (const PieceVertex& v : piece)
                 if (verts[std::size_t(v.id)].pending) attributes(verts[std::size_t(v.id)], v.bary);
-            double area = 0.0;
-            for (std::size_t i = 1; i + 1 < piece.size(); ++i)
-                area += 0.5 * glm::length(glm::cross(piece[i].p - piece[0].p, piece[i + 1].p - piece[0].p));
-            if (!(area > 1e-12 * faceArea)) continue;
+            if (!(pieceArea(piece) > 1e-12 * faceArea)) continue;
             // A convex piece: drop the vertices along its sides (where other lines ended; the boundary conforming
             // of mesh/subdivision splits the neighbour's edge there again) and fan from a corner.
             Piece corners;
@@ -563,12 +553,7 @@ SurfaceMesh cutAlongSolids(const SurfaceMesh& mesh, std::size_t instance, const 
         out.sourceFace(added) = mesh.sourceFace(from);
     }
     out.update_face_normals();
-    if (stats) {
-        stats->facesCut += local.facesCut;
-        stats->facesDropped += local.facesDropped;
-        stats->piecesDropped += local.piecesDropped;
-        stats->areaDroppedM2 += local.areaDroppedM2;
-    }
+    if (stats) *stats += local;
     return out;
 }
 

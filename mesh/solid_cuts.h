@@ -47,7 +47,7 @@ public:
 
     struct Solid {
         std::size_t instance = 0;
-        int component = 0;                        // connected part of the instance's mesh (faceComponent)
+        int component = 0;                        // connected part of the instance's mesh (componentOf)
         glm::dvec3 lo{0.0}, hi{0.0};              // bounds
         std::vector<std::array<glm::dvec3, 3>> triangles;
         std::vector<std::size_t> planeOfTriangle;  // index into planes (coplanar triangles share one)

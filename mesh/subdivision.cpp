@@ -6,15 +6,15 @@
 #include <limits>
 #include <sstream>
 #include <map>
-#include <numeric>
-#include <unordered_map>
-
 #include <optional>
+#include <unordered_map>
 
 #include <tbb/parallel_for.h>
 
+#include "mesh/cell_key.h"
 #include "mesh/errors.h"
 #include "mesh/solid_cuts.h"
+#include "mesh/union_find.h"
 
 namespace hemibake {
 
@@ -54,7 +54,7 @@ public:
             for (std::size_t i : members) g.cellM = std::max(g.cellM, 2.0 * (*regions_)[i].radiusM);
             for (std::size_t i : members) {
                 const glm::dvec3& c = (*regions_)[i].centre;
-                g.cells[key(g.cell(c.x), g.cell(c.y), g.cell(c.z))].push_back(i);
+                g.cells[cellKey(g.cell(c.x), g.cell(c.y), g.cell(c.z))].push_back(i);
             }
             grids_.push_back(std::move(g));
         }
@@ -65,7 +65,7 @@ public:
             for (std::int64_t x = g.cell(p.x) - 1; x <= g.cell(p.x) + 1; ++x)
                 for (std::int64_t y = g.cell(p.y) - 1; y <= g.cell(p.y) + 1; ++y)
                     for (std::int64_t z = g.cell(p.z) - 1; z <= g.cell(p.z) + 1; ++z) {
-                        auto it = g.cells.find(key(x, y, z));
+                        auto it = g.cells.find(cellKey(x, y, z));
                         if (it == g.cells.end()) continue;
                         for (std::size_t i : it->second) {
                             const auto& r = (*regions_)[i];
@@ -81,9 +81,6 @@ private:
         std::unordered_map<std::uint64_t, std::vector<std::size_t>> cells;
         std::int64_t cell(double x) const { return std::int64_t(std::floor(x / cellM)); }
     };
-    static std::uint64_t key(std::int64_t x, std::int64_t y, std::int64_t z) {
-        return std::uint64_t(x) * 0x9E3779B97F4A7C15ull ^ std::uint64_t(y) * 0xC2B2AE3D27D4EB4Full ^ std::uint64_t(z) * 0x165667B19E3779F9ull;
-    }
     std::vector<Grid> grids_;
     const std::vector<RefinementRequest::Region>* regions_ = nullptr;
 };
@@ -102,22 +99,18 @@ RefinedInstance refine(const MeshInstance& instance, std::size_t instanceIndex, 
         std::vector<int> fromFace;
         r.mesh = cutAlongSolids(r.mesh, instanceIndex, *solids, doubleSided, &cutStats, &fromFace);
         // Pieces of one patch face that share a vertex are one patch (pieces on two sides of a wall never do).
-        std::vector<int> parent(r.mesh.n_faces());
-        std::iota(parent.begin(), parent.end(), 0);
-        auto root = [&](int i) {
-            while (parent[std::size_t(i)] != i) i = parent[std::size_t(i)] = parent[std::size_t(parent[std::size_t(i)])];
-            return i;
-        };
-        std::map<std::pair<int, int>, int> faceAtVertex;
+        UnionFind groups(r.mesh.n_faces());
+        std::map<std::pair<int, int>, std::uint32_t> faceAtVertex;
         for (auto f : r.mesh.faces())
             for (auto v : r.mesh.fv_range(f)) {
                 const auto [it, added] = faceAtVertex.emplace(std::pair{v.idx(), fromFace[std::size_t(f.idx())]}, f.idx());
-                if (!added) parent[std::size_t(root(f.idx()))] = root(it->second);
+                if (!added) groups.unite(std::uint32_t(f.idx()), it->second);
             }
-        std::map<int, int> patchOfRoot;
+        std::map<std::uint32_t, int> patchOfRoot;
         patchOf.assign(r.mesh.n_faces(), 0);
         for (auto f : r.mesh.faces())
-            patchOf[std::size_t(f.idx())] = patchOfRoot.emplace(root(f.idx()), int(patchOfRoot.size())).first->second;
+            patchOf[std::size_t(f.idx())] =
+                patchOfRoot.emplace(groups.find(std::uint32_t(f.idx())), int(patchOfRoot.size())).first->second;
         r.patchCount = int(patchOfRoot.size());
     }
     r.mesh.add_property(r.patchOfFace);
@@ -129,24 +122,18 @@ RefinedInstance refine(const MeshInstance& instance, std::size_t instanceIndex, 
 
 // Separately meshed surfaces that touch along an edge (two walls of different sizes meeting at a corner) are
 // bisected independently, so one side's vertices fall mid-edge on the other: T-junctions, along which
-// rasterizers may leave sub-pixel cracks for a hemicube to see through. Splitting every boundary edge at the
-// other surfaces' boundary vertices that lie on it makes the shared edges identical on both sides. Vertices
-// mid-face (a wall standing on a floor) are not handled here.
+// rasterizers may leave sub-pixel cracks for a hemicube to see through. The same happens inside one surface where a
+// cut along a solid ends on an edge its neighbour was not cut along (mesh/solid_cuts.h). Splitting every boundary
+// edge at the boundary vertices that lie on it makes the shared edges identical on both sides. Vertices mid-face
+// (a wall standing on a floor) are not handled here.
 std::size_t conformBoundaries(std::vector<RefinedInstance>& parts, double tolM, double cellM) {
-    struct BoundaryVertex {
-        glm::dvec3 p;
-        std::size_t part;
-    };
     auto cellOf = [cellM](double x) { return std::int64_t(std::floor(x / cellM)); };
-    auto key = [](std::int64_t x, std::int64_t y, std::int64_t z) {
-        return std::uint64_t(x) * 0x9E3779B97F4A7C15ull ^ std::uint64_t(y) * 0xC2B2AE3D27D4EB4Full ^ std::uint64_t(z) * 0x165667B19E3779F9ull;
-    };
-    std::unordered_map<std::uint64_t, std::vector<BoundaryVertex>> grid;
+    std::unordered_map<std::uint64_t, std::vector<glm::dvec3>> grid;
     for (std::size_t i = 0; i < parts.size(); ++i)
         for (auto v : parts[i].mesh.vertices())
             if (parts[i].mesh.is_boundary(v)) {
                 const glm::dvec3 p = toGlm(parts[i].mesh.point(v));
-                grid[key(cellOf(p.x), cellOf(p.y), cellOf(p.z))].push_back({p, i});
+                grid[cellKey(cellOf(p.x), cellOf(p.y), cellOf(p.z))].push_back(p);
             }
     std::size_t splits = 0;
     for (std::size_t i = 0; i < parts.size(); ++i) {
@@ -166,13 +153,13 @@ std::size_t conformBoundaries(std::vector<RefinedInstance>& parts, double tolM, 
             for (std::int64_t x = cellOf(lo.x); x <= cellOf(hi.x); ++x)
                 for (std::int64_t y = cellOf(lo.y); y <= cellOf(hi.y); ++y)
                     for (std::int64_t z = cellOf(lo.z); z <= cellOf(hi.z); ++z) {
-                        auto it = grid.find(key(x, y, z));
+                        auto it = grid.find(cellKey(x, y, z));
                         if (it == grid.end()) continue;
-                        for (const BoundaryVertex& bv : it->second) {
-                            const double t = glm::dot(bv.p - a, ab) / len2;
+                        for (const glm::dvec3& bv : it->second) {
+                            const double t = glm::dot(bv - a, ab) / len2;
                             if (t <= tTol || t >= 1.0 - tTol) continue;
-                            if (glm::length(a + t * ab - bv.p) > tolM) continue;
-                            onEdge.emplace_back(t, bv.p);
+                            if (glm::length(a + t * ab - bv) > tolM) continue;
+                            onEdge.emplace_back(t, bv);
                         }
                     }
             std::sort(onEdge.begin(), onEdge.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
@@ -311,12 +298,7 @@ PatchMesh subdivide(const Scene& scene, const SubdivisionSettings& settings, con
         refined[i] = refine(instance, i, solids && solids->size() > 0 ? &*solids : nullptr, material.doubleSided,
                             patchSize, settings.elementSizeM, lookup, cutStats[i]);
     });
-    for (const SolidCutStats& c : cutStats) {
-        out.solidCuts.facesCut += c.facesCut;
-        out.solidCuts.facesDropped += c.facesDropped;
-        out.solidCuts.piecesDropped += c.piecesDropped;
-        out.solidCuts.areaDroppedM2 += c.areaDroppedM2;
-    }
+    for (const SolidCutStats& c : cutStats) out.solidCuts += c;
     out.solidCuts.solids = solids ? solids->size() : 0;
     conformBoundaries(refined, tolM, std::max(settings.elementSizeM, 1e-9));
 

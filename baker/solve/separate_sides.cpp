@@ -16,25 +16,11 @@
 #include "baker/rays/inside_geometry.h"
 #include "baker/util/stopwatch.h"
 #include "mesh/triangle_sampling.h"
+#include "mesh/union_find.h"
 
 namespace hemibake {
 
 namespace {
-
-struct UnionFind {
-    explicit UnionFind(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), std::uint32_t(0)); }
-    std::uint32_t find(std::uint32_t i) {
-        while (parent[i] != i) i = parent[i] = parent[parent[i]];
-        return i;
-    }
-    bool unite(std::uint32_t a, std::uint32_t b) {
-        a = find(a), b = find(b);
-        if (a == b) return false;
-        parent[std::max(a, b)] = std::min(a, b);
-        return true;
-    }
-    std::vector<std::uint32_t> parent;
-};
 
 // Lift off the face: relative to the element, never below what float error in the ray tracer can undo.
 double liftM(const EmbreeScene& rays, double edgeM, const SideSeparationSettings& s) {

@@ -6,25 +6,12 @@
 #include "mesh/scene_builder.h"
 #include "mesh/solid_cuts.h"
 #include "mesh/subdivision.h"
+#include "support/test_meshes.h"
 
 using namespace hemibake;
+using hemibake::test::addSolidBox;
 
 namespace {
-
-// A closed, outward-facing box as one instance with 8 shared corners (SceneBuilder::addBox makes six open quads).
-void addSolidBox(SceneBuilder& b, const glm::dvec3& lo, const glm::dvec3& hi, int material, const std::string& name,
-                 bool withTop = true) {
-    std::vector<glm::dvec3> c;
-    for (int i = 0; i < 8; ++i) c.emplace_back(i & 1 ? hi.x : lo.x, i & 2 ? hi.y : lo.y, i & 4 ? hi.z : lo.z);
-    const int quads[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
-    std::vector<std::array<int, 3>> tris;
-    for (int f = 0; f < 6; ++f) {
-        if (!withTop && f == 3) continue;
-        tris.push_back({quads[f][0], quads[f][1], quads[f][2]});
-        tris.push_back({quads[f][0], quads[f][2], quads[f][3]});
-    }
-    b.addTriangles(c, tris, material, name);
-}
 
 double area(const SurfaceMesh& m) {
     double a = 0.0;

@@ -1,5 +1,5 @@
 #pragma once
-// Closed curved test surfaces (UV sphere, torus) and single-mesh scenes, shared by the unwrapping tests.
+// Closed test surfaces (UV sphere, torus, solid boxes) and single-mesh scenes, shared by the mesh and baker tests.
 #include <array>
 #include <cmath>
 #include <string>
@@ -19,6 +19,22 @@ inline Scene singleMesh(const std::vector<glm::dvec3>& p, const std::vector<Tri>
     const int m = b.addMaterial(glm::vec3(0.5f));
     b.addTriangles(p, t, m, "mesh");
     return b.build();
+}
+
+// A closed, outward-facing axis-aligned box as one instance with 8 shared corners: a solid (mesh/solid_cuts.h), where
+// SceneBuilder::addBox makes six open quads. withTop = false leaves the +y face out (an open box, no solid).
+inline void addSolidBox(SceneBuilder& b, const glm::dvec3& lo, const glm::dvec3& hi, int material, const std::string& name,
+                        bool withTop = true) {
+    std::vector<glm::dvec3> c;
+    for (int i = 0; i < 8; ++i) c.emplace_back(i & 1 ? hi.x : lo.x, i & 2 ? hi.y : lo.y, i & 4 ? hi.z : lo.z);
+    const int quads[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
+    std::vector<Tri> tris;
+    for (int f = 0; f < 6; ++f) {
+        if (!withTop && f == 3) continue;
+        tris.push_back({quads[f][0], quads[f][1], quads[f][2]});
+        tris.push_back({quads[f][0], quads[f][2], quads[f][3]});
+    }
+    b.addTriangles(c, tris, material, name);
 }
 
 // UV sphere of radius r at c (nu segments, nv rings, single poles), outward facing.

@@ -14,23 +14,12 @@
 #include "baker/rays/embree_scene.h"
 #include "baker/reference/progressive_reference.h"
 #include "mesh/scene_builder.h"
+#include "support/test_meshes.h"
 
 using namespace hemibake;
+using hemibake::test::addSolidBox;
 
 namespace {
-
-// A closed, outward-facing box as one instance (SceneBuilder::addBox makes six open quads, which are no solid).
-void addSolidBox(SceneBuilder& b, const glm::dvec3& lo, const glm::dvec3& hi, int material, const std::string& name) {
-    std::vector<glm::dvec3> c;
-    for (int i = 0; i < 8; ++i) c.emplace_back(i & 1 ? hi.x : lo.x, i & 2 ? hi.y : lo.y, i & 4 ? hi.z : lo.z);
-    const int quads[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
-    std::vector<std::array<int, 3>> tris;
-    for (const auto& q : quads) {
-        tris.push_back({q[0], q[1], q[2]});
-        tris.push_back({q[0], q[2], q[3]});
-    }
-    b.addTriangles(c, tris, material, name);
-}
 
 struct RoomMeans {
     double litMean = 0.0;   // mean E/π over room A's texels (luminance-free: the channel mean)
