@@ -2,7 +2,7 @@
 
 namespace hemibake {
 
-bool FormFactorCache::store(std::uint32_t patch, FormFactorRow& row) {
+bool FormFactorCache::store(std::uint32_t slot, FormFactorRow& row) {
     row.elements.shrink_to_fit();
     row.formFactors.shrink_to_fit();
     const std::size_t bytes = row.bytes();
@@ -10,7 +10,7 @@ bool FormFactorCache::store(std::uint32_t patch, FormFactorRow& row) {
     do {
         if (used + bytes > budget_) return false;
     } while (!used_.compare_exchange_weak(used, used + bytes, std::memory_order_relaxed));
-    rows_[patch] = std::make_unique<const FormFactorRow>(std::move(row));
+    rows_[slot] = std::make_unique<const FormFactorRow>(std::move(row));
     return true;
 }
 

@@ -25,14 +25,14 @@ struct FormFactorRow {
 
 class FormFactorCache {
 public:
-    // `budgetBytes` = 0 disables the cache.
-    FormFactorCache(std::size_t patchCount, std::size_t budgetBytes) : rows_(patchCount), budget_(budgetBytes) {}
+    // `slots` rows at most (the shooter keeps patches' rows and single elements'); `budgetBytes` = 0 disables it.
+    FormFactorCache(std::size_t slots, std::size_t budgetBytes) : rows_(slots), budget_(budgetBytes) {}
 
-    // Safe to call concurrently for different patches (each slot is touched by the thread shooting that patch).
-    const FormFactorRow* find(std::uint32_t patch) const { return rows_[patch].get(); }
+    // Safe to call concurrently for different slots (each slot is touched by one thread at a time).
+    const FormFactorRow* find(std::uint32_t slot) const { return rows_[slot].get(); }
     // Moves `row` into the cache when it fits the budget and returns true; otherwise returns false and leaves `row`
-    // as it was (the caller shoots with it). Thread-safe for different patches.
-    bool store(std::uint32_t patch, FormFactorRow& row);
+    // as it was (the caller shoots with it). Thread-safe for different slots.
+    bool store(std::uint32_t slot, FormFactorRow& row);
 
     std::size_t bytesUsed() const { return used_.load(std::memory_order_relaxed); }
     std::uint64_t hits() const { return hits_.load(std::memory_order_relaxed); }

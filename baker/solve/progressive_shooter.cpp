@@ -33,6 +33,8 @@ struct ProgressiveShooter::Shot {
     const FormFactorRow* row = nullptr;
     std::uint32_t hemicubesRendered = 0;
     std::uint64_t seed = 0;
+    // Uneven unshot light: the elements it is shot from (then `own` holds their row, never cached).
+    std::vector<std::pair<std::uint32_t, double>> picks;
 };
 
 // Per-thread scratch for merging several hemicubes' form factors: a dense accumulator and the ids it touched.
@@ -46,8 +48,11 @@ ProgressiveShooter::ProgressiveShooter(const PatchMesh& mesh, RadiositySolution&
                                        const SolverSettings& settings)
     : mesh_(mesh), solution_(solution), pool_(pool), settings_(settings), queue_(mesh.patches.size()),
       scratch_(std::make_unique<tbb::enumerable_thread_specific<MergeScratch>>()),
-      cache_(std::make_unique<FormFactorCache>(mesh.patches.size(), std::size_t(settings.formFactorCacheMiB * 1048576.0))) {
+      // Slots: one row per patch, then one per element (the single hemicube an uneven shot picks it for).
+      cache_(std::make_unique<FormFactorCache>(mesh.patches.size() + mesh.elements.size(),
+                                               std::size_t(settings.formFactorCacheMiB * 1048576.0))) {
     shotOnce_.assign(mesh.patches.size(), false);
+    unshotW_.assign(mesh.elements.size(), 0.0);
     for (const glm::vec3& rho : mesh.elements.reflectance)
         maxReflectance_ = std::max({maxReflectance_, double(rho.x), double(rho.y), double(rho.z)});
 }
@@ -68,6 +73,7 @@ void ProgressiveShooter::injectEmission(bool shoot) {
         exitanceW_ += channelSum(exitance) * el.areaM2[e];
         if (!shoot) continue;
         ledger_.injectedW += exitance * el.areaM2[e];
+        unshotW_[e] += channelSum(exitance) * el.areaM2[e];
         addUnshot(el.patch[e], exitance * (el.areaM2[e] / mesh_.patches.areaM2[el.patch[e]]));
     }
 }
@@ -81,11 +87,18 @@ void ProgressiveShooter::injectIrradiance(const std::vector<glm::dvec3>& irradia
         solution_.radiosity[e] += reflected;
         exitanceW_ += channelSum(reflected) * el.areaM2[e];
         ledger_.injectedW += irradiance[e] * el.areaM2[e];
+        unshotW_[e] += channelSum(reflected) * el.areaM2[e];
         addUnshot(el.patch[e], reflected * (el.areaM2[e] / mesh_.patches.areaM2[el.patch[e]]));
     }
 }
 
 void ProgressiveShooter::renderShot(std::uint32_t patch, Shot& shot) const {
+    if (!shot.picks.empty()) {
+        renderPickedRow(shot.picks, shot.seed, shot.own);
+        shot.row = &shot.own;
+        shot.hemicubesRendered = shot.own.hemicubes;
+        return;
+    }
     if (const FormFactorRow* cached = cache_->find(patch)) {
         shot.row = cached;
         shot.hemicubesRendered = 0;
@@ -149,33 +162,116 @@ void ProgressiveShooter::renderRow(std::uint32_t patch, std::uint64_t seed, Form
     }
 }
 
-void ProgressiveShooter::applyShot(const Shot& shot) {
+std::vector<std::pair<std::uint32_t, double>> ProgressiveShooter::unevenPicks(std::uint32_t patch) const {
+    std::vector<std::pair<std::uint32_t, double>> picks;
+    const PatchArrays& pa = mesh_.patches;
     const ElementArrays& el = mesh_.elements;
-    const double shooterArea = mesh_.patches.areaM2[shot.patch];
-    const glm::dvec3 powerW = shot.deltaRadiosity * shooterArea;
-    const FormFactorRow& row = *shot.row;
+    if (pa.elementCount[patch] <= 1 || !(settings_.directShotSpread < 1.0) || !(pa.areaM2[patch] > 0.0)) return picks;
+    const std::uint32_t first = pa.firstElement[patch], end = first + pa.elementCount[patch];
+    double total = 0.0;
+    for (std::uint32_t e = first; e < end; ++e) total += unshotW_[e];
+    if (!(total > 0.0)) return picks;
+    // Total-variation distance between the unshot light's distribution over the elements and the area's.
+    double away = 0.0;
+    for (std::uint32_t e = first; e < end; ++e) away += std::abs(unshotW_[e] / total - el.areaM2[e] / pa.areaM2[patch]);
+    if (!(0.5 * away > settings_.directShotSpread)) return picks;
+    // Systematic sampling: sample s sits at the element where the cumulative power passes (s + ½)/n of the total;
+    // an element holding k of the n strata shoots k/n of the light from its centroid.
+    const std::uint32_t samples = std::min(pa.elementCount[patch], kMaxSamplesPerPatch);
+    double below = 0.0;
+    std::uint32_t s = 0;
+    for (std::uint32_t e = first; e < end && s < samples; ++e) {
+        below += unshotW_[e];
+        std::uint32_t strata = 0;
+        while (s < samples && (double(s) + 0.5) / double(samples) * total < below) ++s, ++strata;
+        if (strata) picks.emplace_back(e, double(strata) / double(samples));
+    }
+    return picks;
+}
+
+void ProgressiveShooter::renderPickedRow(const std::vector<std::pair<std::uint32_t, double>>& picks, std::uint64_t seed,
+                                         FormFactorRow& row) const {
+    HemicubeRenderer& renderer = pool_.local();
+    MergeScratch& scratch = scratch_->local();
+    const ElementArrays& el = mesh_.elements;
+    if (scratch.dense.size() != el.size()) scratch.dense.assign(el.size(), 0.0);
+    scratch.touched.clear();
+    row.elements.clear();
+    row.formFactors.clear();
+    row.skyFraction = row.backfaceFraction = 0.0;
+    row.hemicubes = 0;
+    double weights = 0.0;
+    FormFactorRow rendered;
+    for (std::size_t k = 0; k < picks.size(); ++k) {
+        const auto [e, w] = picks[k];
+        weights += w;
+        // The same elements hold the light shot after shot (a hot spot): their rows are cached like patches'.
+        const std::uint32_t slot = std::uint32_t(mesh_.patches.size()) + e;
+        const FormFactorRow* one = cache_->find(slot);
+        if (!one) {
+            const HemicubeFrame frame = HemicubeFrame::randomlyRotated(el.centroid[e], glm::dvec3(el.normal[e]), seed * 2654435761u + k);
+            renderer.renderFormFactors(frame, scratch.list);
+            ++row.hemicubes;
+            rendered.elements.assign(scratch.list.elements.begin(), scratch.list.elements.end());
+            rendered.formFactors.assign(scratch.list.formFactors.begin(), scratch.list.formFactors.end());
+            rendered.skyFraction = scratch.list.skyFraction;
+            rendered.backfaceFraction = scratch.list.backfaceFraction;
+            rendered.hemicubes = 1;
+            one = cache_->store(slot, rendered) ? cache_->find(slot) : &rendered;
+        }
+        for (std::size_t i = 0; i < one->elements.size(); ++i) {
+            const std::uint32_t j = one->elements[i];
+            if (scratch.dense[j] == 0.0) scratch.touched.push_back(j);
+            scratch.dense[j] += w * double(one->formFactors[i]);
+        }
+        row.skyFraction += w * one->skyFraction;
+        row.backfaceFraction += w * one->backfaceFraction;
+    }
+    // The weights are k/n and sum to 1 up to rounding: normalise so the row shoots exactly the power given.
+    const double norm = weights > 0.0 ? 1.0 / weights : 0.0;
+    row.skyFraction *= norm;
+    row.backfaceFraction *= norm;
+    for (std::uint32_t j : scratch.touched) {
+        row.elements.push_back(j);
+        row.formFactors.push_back(float(scratch.dense[j] * norm));
+        scratch.dense[j] = 0.0;
+    }
+}
+
+void ProgressiveShooter::applyShot(const Shot& shot) {
+    applyRow(shot.patch, *shot.row, shot.deltaRadiosity);
+    // Queue updates after the row: a patch with many receiving elements is updated once per element otherwise.
+    const ElementArrays& el = mesh_.elements;
+    for (std::size_t k = 0; k < shot.row->elements.size(); ++k) {
+        const std::uint32_t p = el.patch[shot.row->elements[k]];
+        queue_.set(p, channelSum(solution_.unshotRadiosity[p]) * mesh_.patches.areaM2[p]);
+    }
+    shotOnce_[shot.patch] = true;
+    ++ledger_.shots;
+    ledger_.hemicubes += shot.hemicubesRendered;
+    ledger_.cachedShots += shot.hemicubesRendered == 0 ? 1 : 0;
+}
+
+void ProgressiveShooter::applyRow(std::uint32_t patch, const FormFactorRow& row, const glm::dvec3& deltaRadiosity) {
+    if (!(channelSum(deltaRadiosity) > 0.0)) return;
+    const ElementArrays& el = mesh_.elements;
+    const double shooterArea = mesh_.patches.areaM2[patch];
+    const glm::dvec3 powerW = deltaRadiosity * shooterArea;
+    const glm::dvec3& delta = deltaRadiosity;
     for (std::size_t k = 0; k < row.elements.size(); ++k) {
         const std::uint32_t j = row.elements[k];
         // Reciprocity: F_ji = F_ij·A_i/A_j, so the irradiance j gains is ΔB_i·F_ij·A_i/A_j.
-        const glm::dvec3 deltaIrradiance = shot.deltaRadiosity * (double(row.formFactors[k]) * shooterArea / el.areaM2[j]);
+        const glm::dvec3 deltaIrradiance = delta * (double(row.formFactors[k]) * shooterArea / el.areaM2[j]);
         const glm::dvec3 reflected = glm::dvec3(el.reflectance[j]) * deltaIrradiance;
         solution_.irradiance[j] += deltaIrradiance;
         solution_.radiosity[j] += reflected;
         exitanceW_ += channelSum(reflected) * el.areaM2[j];
         const std::uint32_t p = el.patch[j];
         solution_.unshotRadiosity[p] += reflected * (el.areaM2[j] / mesh_.patches.areaM2[p]);
+        unshotW_[j] += channelSum(reflected) * el.areaM2[j];
     }
-    // Queue updates after the loop: a patch with many receiving elements is updated once per element otherwise.
-    for (std::size_t k = 0; k < row.elements.size(); ++k) {
-        const std::uint32_t p = el.patch[row.elements[k]];
-        queue_.set(p, channelSum(solution_.unshotRadiosity[p]) * mesh_.patches.areaM2[p]);
-    }
-    shotOnce_[shot.patch] = true;
     ledger_.escapedW += powerW * row.skyFraction;
     ledger_.backfaceW += powerW * row.backfaceFraction;
-    ++ledger_.shots;
-    ledger_.hemicubes += shot.hemicubesRendered;
-    ledger_.cachedShots += shot.hemicubesRendered == 0 ? 1 : 0;
 }
 
 glm::dvec3 ProgressiveShooter::unshotPowerPerChannelW() const {
@@ -301,6 +397,9 @@ void ProgressiveShooter::shoot(const std::vector<std::uint32_t>& patches, std::v
             shots[picked].patch = p;
             shots[picked].deltaRadiosity = solution_.unshotRadiosity[p];
             shots[picked].seed = ++shotSeed;
+            // Light that lies unevenly over the patch goes from where it landed.
+            shots[picked].picks = unevenPicks(p);
+            for (std::uint32_t e = mesh_.patches.firstElement[p], n = 0; n < mesh_.patches.elementCount[p]; ++n) unshotW_[e + n] = 0.0;
             solution_.unshotRadiosity[p] = glm::dvec3(0.0);
             queue_.set(p, 0.0);
             ++picked;

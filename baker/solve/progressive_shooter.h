@@ -79,6 +79,15 @@ private:
     void addUnshot(std::uint32_t patch, const glm::dvec3& radiosity);
     void renderShot(std::uint32_t patch, Shot& shot) const;
     void renderRow(std::uint32_t patch, std::uint64_t seed, FormFactorRow& row) const;
+    // Where on `patch` its unshot light lies, when that is uneven (more than settings_.directShotSpread of it away
+    // from an even spread over the area): up to kMaxSamplesPerPatch elements picked by systematic sampling of the
+    // unshot power, each with the share it shoots from its centroid. Empty when even (one row serves).
+    std::vector<std::pair<std::uint32_t, double>> unevenPicks(std::uint32_t patch) const;
+    // Form factors averaged over hemicubes at `picks` (weights summing to 1).
+    void renderPickedRow(const std::vector<std::pair<std::uint32_t, double>>& picks, std::uint64_t seed,
+                         FormFactorRow& row) const;
+    // Hands `deltaRadiosity` of `patch` through `row` to the elements it sees (queue updates left to the caller).
+    void applyRow(std::uint32_t patch, const FormFactorRow& row, const glm::dvec3& deltaRadiosity);
     void applyShot(const Shot& shot);
     // Renders (in parallel) and applies the shots of `patches`, each with what it holds now.
     void shoot(const std::vector<std::uint32_t>& patches, std::vector<Shot>& shots, std::uint64_t& shotSeed);
@@ -93,6 +102,8 @@ private:
     double exitanceW_ = 0.0;  // kept up to date by every injection and shot
     LocalBound finalBound_;
     std::vector<bool> shotOnce_;  // per patch: has shot (its row may not be cached)
+    // Unshot power per element, W (channel sum): where on its patch the light to shoot lies.
+    std::vector<double> unshotW_;
     std::unique_ptr<tbb::enumerable_thread_specific<MergeScratch>> scratch_;
     std::unique_ptr<FormFactorCache> cache_;
 };

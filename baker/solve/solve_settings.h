@@ -33,6 +33,11 @@ struct SolverSettings {
     // A patch re-shoots from one hemicube per element when something is nearer than this × the patch's size
     // (GROUND_TRUTH §3.4: one centred hemicube is 4.8 % low for hinged squares, 16 points 0.01 %).
     double proximityFactor = 2.0;
+    // The light a patch got directly (rays: emitters, punctual lights, sky) is shot, the first time, from hemicubes
+    // at elements chosen in proportion to it, when more than this fraction of it lies away from an even spread over
+    // the patch (a ceiling patch lit only above a hanging panel must send that light back into the panel's gap,
+    // not into the room). 1 = never: every shot from the patch's centre or area-weighted points. Typical 0.1.
+    double directShotSpread = 0.1;
     // Form-factor rows kept for patches that shoot again (0 = render every shot). Rows cost ≈ 8 bytes per
     // element a patch sees.
     double formFactorCacheMiB = 1024.0;
