@@ -23,7 +23,7 @@ struct BakeOptions {
     std::string outDir;
     std::string preset = "medium";
     std::optional<double> patchSize, elementSize, emitterPatchSize, epsilon, maxTime, proximity, formFactorCacheMiB;
-    std::optional<int> hemicubeRes, gatherSweeps, adaptiveLevels;
+    std::optional<int> hemicubeRes, gatherSweeps, adaptiveLevels, directStepLevels;
     std::optional<double> adaptiveThreshold, roomFraction;
     std::optional<std::uint64_t> maxShots;
     std::optional<std::string> solver, emitters;
@@ -57,6 +57,7 @@ BakeSettings resolveSettings(const BakeOptions& o, double sceneDiagonalM) {
     override(o.patchSize, sub.patchSizeM);
     override(o.elementSize, sub.elementSizeM);
     override(o.roomFraction, s.solve.roomScale.roomFraction);
+    override(o.directStepLevels, s.solve.directSteps.levels);
     if (o.patchSize && !o.elementSize) sub.elementSizeM = std::min(sub.elementSizeM, *o.patchSize);
     override(o.emitterPatchSize, sub.emitterPatchSizeM);
     override(o.epsilon, solver.epsilon);
@@ -135,6 +136,10 @@ CommandRunner addBakeCommand(CLI::App& app) {
                     "presets 1 (draft, medium), 1/2 (high), 1/3 (ultra: 0.8-0.9 m elements in 5 m rooms, whatever the "
                     "level's size); 0 = sizes from the scene diagonal only")
         ->check(CLI::Range(0.0, 10.0));
+    cmd->add_option("--direct-step-levels", o->directStepLevels,
+                    "Before solving, halve elements where direct light (rays) steps within them, this many times "
+                    "(3 takes 1.6 m elements to 0.2 m at the edge of a hot spot or shadow; presets 0: on a room with hanging panels it gained 1 point of per-texel error for twice the solve time)")
+        ->check(CLI::Range(0, 6));
     cmd->add_option("--emitter-patch-size", o->emitterPatchSize, "Longest edge of an emitter patch, metres (default: the patch size when rays carry the emitters' light, else patch size / 4, so hemicube emitters shoot from close enough)")
         ->check(CLI::PositiveNumber);
     cmd->add_option("--hemicube-res", o->hemicubeRes,

@@ -113,7 +113,10 @@ nlohmann::json BakeReport::toJson() const {
                        {"regions", refinement.regions},
                        {"roomScale", {{"regions", refinement.roomScale.regions},
                                       {"smallestSizeM", refinement.roomScale.smallestSizeM},
-                                      {"medianFreePathM", refinement.roomScale.medianFreePathM}}}};
+                                      {"medianFreePathM", refinement.roomScale.medianFreePathM}}},
+                       {"directSteps", {{"regions", refinement.directSteps.regions},
+                                        {"levels", refinement.directSteps.levels},
+                                        {"smallestSizeM", refinement.directSteps.smallestSizeM}}}};
     if (lightmap) j["lightmap"] = lightmapJson(*lightmap);
     j["primitives"] = nlohmann::json::array();
     for (const BakedPrimitive& p : primitives)

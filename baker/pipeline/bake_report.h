@@ -12,6 +12,7 @@
 #include "baker/lightmap/surface_agreement.h"
 #include "baker/output/gltf_writer.h"
 #include "baker/pipeline/bake_settings.h"
+#include "baker/solve/direct_steps.h"
 #include "baker/solve/exposed_area.h"
 #include "baker/solve/room_scale.h"
 #include "baker/solve/radiosity_solver.h"
@@ -27,6 +28,7 @@ struct StageTiming {
 struct RefinementReport {
     std::size_t elementsBefore = 0, elementsAfter = 0, regions = 0;  // adaptive refinement
     RoomScaleReport roomScale;                                        // before it: elements that follow the rooms
+    DirectStepReport directSteps;                                     // and where direct light steps
 };
 
 struct LightmapReport {

@@ -113,7 +113,7 @@ private:
         report.exposedArea = solved.exposedArea;
         report.sides = solved.sides;
         report.refinement = {solved.elementsBeforeRefinement, solved.mesh.elements.size(), solved.refinementRegions,
-                             solved.roomScale};
+                             solved.roomScale, solved.directSteps};
         std::size_t emitting = 0;
         for (const glm::vec3& l : solved.mesh.elements.emittedRadiance) emitting += (l.x > 0.0f || l.y > 0.0f || l.z > 0.0f);
         if (s.lighting.emitters == EmitterLighting::Rays && emitting > 0 && !solved.report.emittersByRays)

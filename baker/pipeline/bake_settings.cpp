@@ -45,6 +45,12 @@ void visitKnobs(BakeSettings& s, Visitor&& v) {
     v("roomFraction", s.solve.roomScale.roomFraction);
     v("roomScaleRaysPerElement", s.solve.roomScale.raysPerElement);
     v("roomScaleMinSizeFraction", s.solve.roomScale.minSizeFraction);
+    v("directStepLevels", s.solve.directSteps.levels);
+    v("directStepContrast", s.solve.directSteps.contrast);
+    v("directStepSamplesPerSide", s.solve.directSteps.samplesPerSide);
+    v("directStepEmitterSamples", s.solve.directSteps.emitterSamples);
+    v("directStepFaintFraction", s.solve.directSteps.faintFraction);
+    v("directStepMinSizeFraction", s.solve.directSteps.minSizeFraction);
     // Solve: the solver and adaptive refinement.
     v("solver", Enum<SolverKind>{so.kind, solverKindName, parseSolverKind});
     v("hemicubeResolution", so.hemicubeResolution);

@@ -33,7 +33,9 @@ struct ProgressiveShooter::Shot {
     const FormFactorRow* row = nullptr;
     std::uint32_t hemicubesRendered = 0;
     std::uint64_t seed = 0;
-    // Uneven unshot light: the elements it is shot from (then `own` holds their row, never cached).
+    // Unshot light lying unevenly over the patch: shot through its light-picked row (`picks` when that row is
+    // still to be rendered).
+    bool uneven = false;
     std::vector<std::pair<std::uint32_t, double>> picks;
 };
 
@@ -48,8 +50,8 @@ ProgressiveShooter::ProgressiveShooter(const PatchMesh& mesh, RadiositySolution&
                                        const SolverSettings& settings)
     : mesh_(mesh), solution_(solution), pool_(pool), settings_(settings), queue_(mesh.patches.size()),
       scratch_(std::make_unique<tbb::enumerable_thread_specific<MergeScratch>>()),
-      // Slots: one row per patch, then one per element (the single hemicube an uneven shot picks it for).
-      cache_(std::make_unique<FormFactorCache>(mesh.patches.size() + mesh.elements.size(),
+      // Slots: each patch's even row, then its light-picked row (pickedSlot).
+      cache_(std::make_unique<FormFactorCache>(2 * mesh.patches.size(),
                                                std::size_t(settings.formFactorCacheMiB * 1048576.0))) {
     shotOnce_.assign(mesh.patches.size(), false);
     unshotW_.assign(mesh.elements.size(), 0.0);
@@ -93,21 +95,17 @@ void ProgressiveShooter::injectIrradiance(const std::vector<glm::dvec3>& irradia
 }
 
 void ProgressiveShooter::renderShot(std::uint32_t patch, Shot& shot) const {
-    if (!shot.picks.empty()) {
-        renderPickedRow(shot.picks, shot.seed, shot.own);
-        shot.row = &shot.own;
-        shot.hemicubesRendered = shot.own.hemicubes;
-        return;
-    }
-    if (const FormFactorRow* cached = cache_->find(patch)) {
+    const std::uint32_t slot = shot.uneven ? pickedSlot(patch) : patch;
+    if (const FormFactorRow* cached = cache_->find(slot)) {
         shot.row = cached;
         shot.hemicubesRendered = 0;
         cache_->countHit();
         return;
     }
-    renderRow(patch, shot.seed, shot.own);
+    if (shot.uneven) renderPickedRow(shot.picks, shot.seed, shot.own);
+    else renderRow(patch, shot.seed, shot.own);
     shot.hemicubesRendered = shot.own.hemicubes;
-    shot.row = cache_->store(patch, shot.own) ? cache_->find(patch) : &shot.own;
+    shot.row = cache_->store(slot, shot.own) ? cache_->find(slot) : &shot.own;
 }
 
 void ProgressiveShooter::renderRow(std::uint32_t patch, std::uint64_t seed, FormFactorRow& row) const {
@@ -162,21 +160,28 @@ void ProgressiveShooter::renderRow(std::uint32_t patch, std::uint64_t seed, Form
     }
 }
 
-std::vector<std::pair<std::uint32_t, double>> ProgressiveShooter::unevenPicks(std::uint32_t patch) const {
-    std::vector<std::pair<std::uint32_t, double>> picks;
+bool ProgressiveShooter::unevenLight(std::uint32_t patch) const {
     const PatchArrays& pa = mesh_.patches;
     const ElementArrays& el = mesh_.elements;
-    if (pa.elementCount[patch] <= 1 || !(settings_.directShotSpread < 1.0) || !(pa.areaM2[patch] > 0.0)) return picks;
+    if (pa.elementCount[patch] <= 1 || !(settings_.directShotSpread < 1.0) || !(pa.areaM2[patch] > 0.0)) return false;
     const std::uint32_t first = pa.firstElement[patch], end = first + pa.elementCount[patch];
     double total = 0.0;
     for (std::uint32_t e = first; e < end; ++e) total += unshotW_[e];
-    if (!(total > 0.0)) return picks;
+    if (!(total > 0.0)) return false;
     // Total-variation distance between the unshot light's distribution over the elements and the area's.
     double away = 0.0;
     for (std::uint32_t e = first; e < end; ++e) away += std::abs(unshotW_[e] / total - el.areaM2[e] / pa.areaM2[patch]);
-    if (!(0.5 * away > settings_.directShotSpread)) return picks;
+    return 0.5 * away > settings_.directShotSpread;
+}
+
+std::vector<std::pair<std::uint32_t, double>> ProgressiveShooter::lightPicks(std::uint32_t patch) const {
+    const PatchArrays& pa = mesh_.patches;
+    const std::uint32_t first = pa.firstElement[patch], end = first + pa.elementCount[patch];
+    double total = 0.0;
+    for (std::uint32_t e = first; e < end; ++e) total += unshotW_[e];
     // Systematic sampling: sample s sits at the element where the cumulative power passes (s + ½)/n of the total;
     // an element holding k of the n strata shoots k/n of the light from its centroid.
+    std::vector<std::pair<std::uint32_t, double>> picks;
     const std::uint32_t samples = std::min(pa.elementCount[patch], kMaxSamplesPerPatch);
     double below = 0.0;
     std::uint32_t s = 0;
@@ -187,6 +192,10 @@ std::vector<std::pair<std::uint32_t, double>> ProgressiveShooter::unevenPicks(st
         if (strata) picks.emplace_back(e, double(strata) / double(samples));
     }
     return picks;
+}
+
+const FormFactorRow* ProgressiveShooter::nextRow(std::uint32_t patch) const {
+    return cache_->find(unevenLight(patch) ? pickedSlot(patch) : patch);
 }
 
 void ProgressiveShooter::renderPickedRow(const std::vector<std::pair<std::uint32_t, double>>& picks, std::uint64_t seed,
@@ -201,31 +210,19 @@ void ProgressiveShooter::renderPickedRow(const std::vector<std::pair<std::uint32
     row.skyFraction = row.backfaceFraction = 0.0;
     row.hemicubes = 0;
     double weights = 0.0;
-    FormFactorRow rendered;
     for (std::size_t k = 0; k < picks.size(); ++k) {
         const auto [e, w] = picks[k];
         weights += w;
-        // The same elements hold the light shot after shot (a hot spot): their rows are cached like patches'.
-        const std::uint32_t slot = std::uint32_t(mesh_.patches.size()) + e;
-        const FormFactorRow* one = cache_->find(slot);
-        if (!one) {
-            const HemicubeFrame frame = HemicubeFrame::randomlyRotated(el.centroid[e], glm::dvec3(el.normal[e]), seed * 2654435761u + k);
-            renderer.renderFormFactors(frame, scratch.list);
-            ++row.hemicubes;
-            rendered.elements.assign(scratch.list.elements.begin(), scratch.list.elements.end());
-            rendered.formFactors.assign(scratch.list.formFactors.begin(), scratch.list.formFactors.end());
-            rendered.skyFraction = scratch.list.skyFraction;
-            rendered.backfaceFraction = scratch.list.backfaceFraction;
-            rendered.hemicubes = 1;
-            one = cache_->store(slot, rendered) ? cache_->find(slot) : &rendered;
-        }
-        for (std::size_t i = 0; i < one->elements.size(); ++i) {
-            const std::uint32_t j = one->elements[i];
+        const HemicubeFrame frame = HemicubeFrame::randomlyRotated(el.centroid[e], glm::dvec3(el.normal[e]), seed * 2654435761u + k);
+        renderer.renderFormFactors(frame, scratch.list);
+        ++row.hemicubes;
+        for (std::size_t i = 0; i < scratch.list.size(); ++i) {
+            const std::uint32_t j = scratch.list.elements[i];
             if (scratch.dense[j] == 0.0) scratch.touched.push_back(j);
-            scratch.dense[j] += w * double(one->formFactors[i]);
+            scratch.dense[j] += w * scratch.list.formFactors[i];
         }
-        row.skyFraction += w * one->skyFraction;
-        row.backfaceFraction += w * one->backfaceFraction;
+        row.skyFraction += w * scratch.list.skyFraction;
+        row.backfaceFraction += w * scratch.list.backfaceFraction;
     }
     // The weights are k/n and sum to 1 up to rounding: normalise so the row shoots exactly the power given.
     const double norm = weights > 0.0 ? 1.0 / weights : 0.0;
@@ -288,7 +285,7 @@ std::vector<glm::dvec3> ProgressiveShooter::pendingIrradiance(std::size_t* unkno
     for (std::uint32_t p = 0; p < pa.size(); ++p) {
         const glm::dvec3& deltaB = solution_.unshotRadiosity[p];
         if (!(channelSum(deltaB) > 0.0)) continue;
-        const FormFactorRow* row = cache_->find(p);
+        const FormFactorRow* row = nextRow(p);
         if (!row) {
             ++unknown;
             continue;
@@ -315,7 +312,7 @@ ProgressiveShooter::LocalBound ProgressiveShooter::localBound(double epsilon) co
         const double deltaB = channelSum(solution_.unshotRadiosity[p]);
         if (!(deltaB > 0.0)) continue;
         unshot.push_back(p);
-        if (!cache_->find(p) && shotOnce_[p]) unknownRadiosity += deltaB;
+        if (!nextRow(p) && shotOnce_[p]) unknownRadiosity += deltaB;
     }
     // Only elements that have received light take that bound: an uncached patch has shot once already, and an
     // element it never reached is not held open by it (else a sealed dark room would never converge).
@@ -354,7 +351,7 @@ ProgressiveShooter::LocalBound ProgressiveShooter::localBound(double epsilon) co
     // Each unshot patch's own share of the bound where it is largest; unknown rows first.
     std::vector<std::pair<double, std::uint32_t>> share;
     for (std::uint32_t p : unshot) {
-        const FormFactorRow* row = cache_->find(p);
+        const FormFactorRow* row = nextRow(p);
         double worst = shotOnce_[p] && leastHave > 0.0 ? bounces * channelSum(solution_.unshotRadiosity[p]) / leastHave
                                                       : std::numeric_limits<double>::infinity();
         if (row) {
@@ -397,8 +394,11 @@ void ProgressiveShooter::shoot(const std::vector<std::uint32_t>& patches, std::v
             shots[picked].patch = p;
             shots[picked].deltaRadiosity = solution_.unshotRadiosity[p];
             shots[picked].seed = ++shotSeed;
-            // Light that lies unevenly over the patch goes from where it landed.
-            shots[picked].picks = unevenPicks(p);
+            // Light that lies unevenly over the patch goes from where it landed: through the row picked by the
+            // light of its first such shot (the hot spot stays where it is), rendered now if it is not cached.
+            shots[picked].uneven = unevenLight(p);
+            shots[picked].picks.clear();
+            if (shots[picked].uneven && !cache_->find(pickedSlot(p))) shots[picked].picks = lightPicks(p);
             for (std::uint32_t e = mesh_.patches.firstElement[p], n = 0; n < mesh_.patches.elementCount[p]; ++n) unshotW_[e + n] = 0.0;
             solution_.unshotRadiosity[p] = glm::dvec3(0.0);
             queue_.set(p, 0.0);

@@ -79,13 +79,18 @@ private:
     void addUnshot(std::uint32_t patch, const glm::dvec3& radiosity);
     void renderShot(std::uint32_t patch, Shot& shot) const;
     void renderRow(std::uint32_t patch, std::uint64_t seed, FormFactorRow& row) const;
-    // Where on `patch` its unshot light lies, when that is uneven (more than settings_.directShotSpread of it away
-    // from an even spread over the area): up to kMaxSamplesPerPatch elements picked by systematic sampling of the
-    // unshot power, each with the share it shoots from its centroid. Empty when even (one row serves).
-    std::vector<std::pair<std::uint32_t, double>> unevenPicks(std::uint32_t patch) const;
-    // Form factors averaged over hemicubes at `picks` (weights summing to 1).
+    // Whether `patch`'s unshot light lies unevenly over it: more than settings_.directShotSpread of it away from
+    // an even spread over its area (total-variation distance between the two distributions over its elements).
+    bool unevenLight(std::uint32_t patch) const;
+    // Up to kMaxSamplesPerPatch elements picked by systematic sampling of `patch`'s unshot light, each with the
+    // share it shoots from its centroid (weights sum to 1).
+    std::vector<std::pair<std::uint32_t, double>> lightPicks(std::uint32_t patch) const;
+    // Form factors averaged over hemicubes at `picks`.
     void renderPickedRow(const std::vector<std::pair<std::uint32_t, double>>& picks, std::uint64_t seed,
                          FormFactorRow& row) const;
+    // The cached row `patch`'s next shot would use (its light-picked row when its light lies unevenly), or null.
+    const FormFactorRow* nextRow(std::uint32_t patch) const;
+    std::uint32_t pickedSlot(std::uint32_t patch) const { return std::uint32_t(mesh_.patches.size()) + patch; }
     // Hands `deltaRadiosity` of `patch` through `row` to the elements it sees (queue updates left to the caller).
     void applyRow(std::uint32_t patch, const FormFactorRow& row, const glm::dvec3& deltaRadiosity);
     void applyShot(const Shot& shot);

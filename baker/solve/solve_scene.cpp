@@ -1,6 +1,7 @@
 #include "baker/solve/solve_scene.h"
 
 #include "baker/solve/adaptive_refinement.h"
+#include "baker/solve/direct_steps.h"
 #include "raster/hemicube_pool.h"
 
 namespace hemibake {
@@ -43,6 +44,8 @@ std::unique_ptr<SolvedScene> solveScene(const Scene& scene, const SolveSettings&
     };
     // Regions accumulate (room scale, then each adaptive level): each re-subdivision starts from the unrefined mesh.
     RefinementRequest request = findRoomScaleRegions(scene, rays, settings, &solved.roomScale);
+    const RefinementRequest steps = findDirectLightSteps(scene, rays, settings, request, &solved.directSteps);
+    request.regions.insert(request.regions.end(), steps.regions.begin(), steps.regions.end());
     subdivideAndSolve(request.regions.empty() ? nullptr : &request);
     solved.elementsBeforeRefinement = solved.mesh.elements.size();
     for (int level = 1; level <= settings.adaptive.levels; ++level) {
@@ -51,7 +54,7 @@ std::unique_ptr<SolvedScene> solveScene(const Scene& scene, const SolveSettings&
             findRadiosityDiscontinuities(solved.mesh, solved.solution, settings.adaptive.threshold, target);
         if (found.regions.empty()) break;
         request.regions.insert(request.regions.end(), found.regions.begin(), found.regions.end());
-        solved.refinementRegions = request.regions.size() - solved.roomScale.regions;
+        solved.refinementRegions = request.regions.size() - solved.roomScale.regions - solved.directSteps.regions;
         subdivideAndSolve(&request);
     }
     return owned;

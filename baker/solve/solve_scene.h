@@ -4,6 +4,7 @@
 // (settings.adaptive). What later stages need of the solve is in SolvedScene.
 #include <memory>
 
+#include "baker/solve/direct_steps.h"
 #include "baker/solve/exposed_area.h"
 #include "baker/solve/radiosity_solver.h"
 #include "baker/solve/room_scale.h"
@@ -24,6 +25,7 @@ struct SolvedScene {
     std::size_t elementsBeforeRefinement = 0;
     std::size_t refinementRegions = 0;
     RoomScaleReport roomScale;      // elements refined to follow the rooms (before any adaptive level)
+    DirectStepReport directSteps;   // elements refined where direct light steps (before the solve)
     ExposedAreaReport exposedArea;  // of the final mesh
     SideSeparationReport sides;     // of the final mesh
     SolvedScene();

@@ -101,9 +101,20 @@ struct RoomScaleSettings {
     double minSizeFraction = 0.25;
 };
 
+// Elements halved where direct light steps within them, before the solve (baker/solve/direct_steps.h).
+struct DirectStepSettings {
+    int levels = 0;                  // 0 = off (every preset; 3 takes 1.6 m elements to 0.2 m at a step)
+    double contrast = 0.5;           // (max − min) over an element's points > contrast × max
+    int samplesPerSide = 2;          // k: k² points per element (the centroids of its k × k sub-triangles)
+    int emitterSamples = 16;         // shadow rays per point towards emitters (a step, not a precise value)
+    double faintFraction = 0.01;     // steps whose peak is below this × the mean peak of lit elements are left
+    double minSizeFraction = 0.125;  // never finer than elementSize × this
+};
+
 struct SolveSettings {
     SubdivisionSettings subdivision;
     RoomScaleSettings roomScale;
+    DirectStepSettings directSteps;
     ExposedAreaSettings exposure;
     SideSeparationSettings sides;
     SolverSettings solver;

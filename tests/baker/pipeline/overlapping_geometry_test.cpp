@@ -164,3 +164,88 @@ TEST(SunkBox, FloorAroundItMatchesThePathTracer) {
     EXPECT_LE(worst, 0.03);
     EXPECT_LE(bakedMax, openMean);
 }
+
+// A light panel hung 5 cm under a ceiling, emitting from every face (a closed box, as the level generator and many
+// artists make them): its top lights a hot spot on the ceiling that the panel hides from the room, and most of that
+// light bounces back into the panel. Level-sized patches (3.3 m) and elements (1.6 m) average the hot spot over a
+// whole patch; shot from the patch's centre, it lit the room as if the ceiling glowed everywhere (the table top
+// 20 % too bright, the panel's top 45 % too dark in one room of the generated level). Elements halved where direct
+// light steps (the hot spot's edge) and uneven light shot from the elements it landed on keep it in the gap.
+namespace {
+
+struct PanelRoom {
+    double tableBaked = 0.0, tableTraced = 0.0;  // mean E/π over the table top's texels
+    double floorBaked = 0.0, floorTraced = 0.0;  // and over the open floor's
+};
+
+PanelRoom bakePanelRoom(double directShotSpread, int directStepLevels) {
+    SceneBuilder b("hanging panel");
+    const int grey = b.addMaterial(glm::vec3(0.7f));
+    const int lamp = b.addMaterial(glm::vec3(0.8f), glm::vec3(12.0f));
+    addSolidBox(b, {-0.2, -0.2, -0.2}, {4.2, 0.0, 4.2}, grey, "floor slab");
+    addSolidBox(b, {-0.2, 3.0, -0.2}, {4.2, 3.2, 4.2}, grey, "ceiling slab");
+    addSolidBox(b, {-0.2, -0.05, -0.2}, {0.0, 3.05, 4.2}, grey, "west wall");
+    addSolidBox(b, {4.0, -0.05, -0.2}, {4.2, 3.05, 4.2}, grey, "east wall");
+    addSolidBox(b, {0.0, -0.05, -0.2}, {4.0, 3.05, 0.0}, grey, "south wall");
+    addSolidBox(b, {0.0, -0.05, 4.0}, {4.0, 3.05, 4.2}, grey, "north wall");
+    addSolidBox(b, {1.4, 2.9, 1.7}, {2.6, 2.95, 2.3}, lamp, "panel");
+    addSolidBox(b, {2.5, 0.75, 2.5}, {3.5, 0.8, 3.5}, grey, "table top");
+    Scene scene = b.build();
+    BakeSettings settings = presetSettings("medium", scene.bounds().diagonal());
+    settings.solve.subdivision.patchSizeM = 3.3;  // what the medium preset gives a 26 m level
+    settings.solve.subdivision.elementSizeM = 1.6;
+    settings.solve.solver.directShotSpread = directShotSpread;
+    settings.solve.directSteps.levels = directStepLevels;
+    settings.lightmap.texelsPerUnit = 8.0;
+    const BakeResult r = bakeScene(scene, settings, BakeOutput{});
+
+    std::vector<SurfacePoint> table, floor;
+    std::vector<double> tableBaked, floorBaked;
+    for (std::size_t a = 0; a < r.texels.size(); ++a)
+        for (std::size_t i = 0; i < r.texels[a].count(); ++i) {
+            const glm::dvec3 p = r.texels[a].position[i];
+            if (r.texels[a].normal[i].y < 0.99f) continue;
+            const glm::vec3 e = r.lightmaps[a].irradianceOverPi[r.lightmaps[a].index(r.texels[a].x[i], r.texels[a].y[i])];
+            const double v = (double(e.x) + double(e.y) + double(e.z)) / 3.0;
+            const bool onTable = std::abs(p.y - 0.8) < 0.01 && p.x > 2.5 && p.x < 3.5 && p.z > 2.5 && p.z < 3.5;
+            const bool onFloor = std::abs(p.y) < 0.01 && p.x > 0.0 && p.x < 2.0 && p.z > 0.0 && p.z < 4.0;
+            if (onTable) table.push_back({p, r.texels[a].normal[i]}), tableBaked.push_back(v);
+            if (onFloor) floor.push_back({p, r.texels[a].normal[i]}), floorBaked.push_back(v);
+        }
+    EXPECT_GT(table.size(), 40u);
+    EXPECT_GT(floor.size(), 400u);
+    const EmbreeScene rays(scene);
+    ProgressiveSettings progressive;
+    progressive.spp = 2048;
+    auto means = [&](const std::vector<SurfacePoint>& points, const std::vector<double>& baked, double& bakedMean, double& tracedMean) {
+        const ProgressiveEstimate ref = irradianceOverPiProgressively(scene, rays, PathTracerSettings{}, points, progressive);
+        for (std::size_t i = 0; i < points.size(); ++i) {
+            bakedMean += baked[i] / double(points.size());
+            tracedMean += (ref.mean[i].x + ref.mean[i].y + ref.mean[i].z) / 3.0 / double(points.size());
+        }
+    };
+    PanelRoom room;
+    means(table, tableBaked, room.tableBaked, room.tableTraced);
+    means(floor, floorBaked, room.floorBaked, room.floorTraced);
+    std::printf("hanging panel, directShotSpread %.2f, %d direct-step levels: table top %.4f (path tracer %.4f, %+.2f %%), floor %.4f (%.4f, %+.2f %%)\n",
+                directShotSpread, directStepLevels, room.tableBaked, room.tableTraced, 100.0 * (room.tableBaked / room.tableTraced - 1.0),
+                room.floorBaked, room.floorTraced, 100.0 * (room.floorBaked / room.floorTraced - 1.0));
+    return room;
+}
+
+}  // namespace
+
+// Measured: table top −2.8 %, open floor −0.0 % (path tracer mean over 60 and 1,000 texels at 2,048 spp: its noise
+// is below 0.3 %); the issue asks every room object within 5 %.
+TEST(HangingPanel, LightFromTheGapStaysInTheGap) {
+    const PanelRoom r = bakePanelRoom(SolverSettings{}.directShotSpread, 3);
+    EXPECT_NEAR(r.tableBaked / r.tableTraced, 1.0, 0.04);
+    EXPECT_NEAR(r.floorBaked / r.floorTraced, 1.0, 0.02);
+}
+
+// Without both (coarse elements, every patch shooting from its centre or area-weighted points): +16 % and +24 %.
+TEST(HangingPanel, ShotFromThePatchCentreTheRoomIsTooBright) {
+    const PanelRoom r = bakePanelRoom(1.0, 0);
+    EXPECT_GT(r.tableBaked / r.tableTraced, 1.1);
+    EXPECT_GT(r.floorBaked / r.floorTraced, 1.1);
+}
