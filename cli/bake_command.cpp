@@ -24,7 +24,7 @@ struct BakeOptions {
     std::string preset = "medium";
     std::optional<double> patchSize, elementSize, emitterPatchSize, epsilon, maxTime, proximity, formFactorCacheMiB;
     std::optional<int> hemicubeRes, gatherSweeps, adaptiveLevels, directStepLevels;
-    std::optional<double> adaptiveThreshold, roomFraction;
+    std::optional<double> adaptiveThreshold, roomFraction, unevenShotSpread;
     std::optional<std::uint64_t> maxShots;
     std::optional<std::string> solver, emitters;
     std::optional<int> emitterSamples;
@@ -69,6 +69,7 @@ BakeSettings resolveSettings(const BakeOptions& o, double sceneDiagonalM) {
         solver.maxGatherSweeps = std::max(*o.gatherSweeps, 1);
     }
     override(o.proximity, solver.proximityFactor);
+    override(o.unevenShotSpread, solver.unevenShotSpread);
     override(o.formFactorCacheMiB, solver.formFactorCacheMiB);
     override(o.adaptiveLevels, s.solve.adaptive.levels);
     override(o.adaptiveThreshold, s.solve.adaptive.threshold);
@@ -137,8 +138,9 @@ CommandRunner addBakeCommand(CLI::App& app) {
                     "level's size); 0 = sizes from the scene diagonal only")
         ->check(CLI::Range(0.0, 10.0));
     cmd->add_option("--direct-step-levels", o->directStepLevels,
-                    "Before solving, halve elements where direct light (rays) steps within them, this many times "
-                    "(3 takes 1.6 m elements to 0.2 m at the edge of a hot spot or shadow; presets 0: on a room with hanging panels it gained 1 point of per-texel error for twice the solve time)")
+                    "Experimental: before solving, halve elements where direct light (rays) steps within them, this many times "
+                    "(3 takes 1.6 m elements to 0.2 m at a hot spot's or shadow's edge). Presets 0: right on one room with a "
+                    "hanging panel, but on level_small 3 levels made 190k elements, took 37 min and came out worse (under study)")
         ->check(CLI::Range(0, 6));
     cmd->add_option("--emitter-patch-size", o->emitterPatchSize, "Longest edge of an emitter patch, metres (default: the patch size when rays carry the emitters' light, else patch size / 4, so hemicube emitters shoot from close enough)")
         ->check(CLI::PositiveNumber);
@@ -158,6 +160,11 @@ CommandRunner addBakeCommand(CLI::App& app) {
     cmd->add_option("--proximity", o->proximity,
                     "A patch shoots from several sample points when a surface is nearer than this × its size")
         ->check(CLI::NonNegativeNumber);
+    cmd->add_option("--uneven-shot-spread", o->unevenShotSpread,
+                    "A patch whose unshot light lies unevenly over it (more than this fraction away from an even spread) "
+                    "shoots it from the elements it lies on, picked in proportion to it (a hot spot above a hanging "
+                    "panel goes back into the panel's gap, not into the room); default 0.1, 1 = never")
+        ->check(CLI::Range(0.0, 1.0));
     cmd->add_option("--emitters", o->emitters,
                     "How emissive surfaces light the scene directly. rays: Lambert's exact formula times a shadow-ray "
                     "visibility estimate at every element and texel (sharp, alias-free; the bounces still shoot "

@@ -25,6 +25,7 @@ nlohmann::json convergenceJson(const SolveReport& solve) {
             {"shots", solve.shots},
             {"hemicubes", solve.hemicubes},
             {"cachedShots", solve.cachedShots},
+            {"unevenShots", solve.unevenShots},
             {"emittersByRays", solve.emittersByRays},
             {"formFactorCacheMiB", double(solve.formFactorCacheBytes) / 1048576.0},
             {"gatherSweeps", solve.gatherSweeps},

@@ -61,7 +61,7 @@ void visitKnobs(BakeSettings& s, Visitor&& v) {
     v("maxGatherSweeps", so.maxGatherSweeps);
     v("ambientCorrection", so.ambientCorrection);
     v("proximityFactor", so.proximityFactor);
-    v("directShotSpread", so.directShotSpread);
+    v("unevenShotSpread", so.unevenShotSpread);
     v("formFactorCacheMiB", so.formFactorCacheMiB);
     v("threads", so.threads);
     v("seed", so.seed);

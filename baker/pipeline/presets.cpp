@@ -60,7 +60,7 @@ BakeSettings presetSettings(const std::string& name, double sceneDiagonalM) {
         s.solve.solver.kind = SolverKind::Hybrid;
         s.solve.adaptive.levels = p.adaptiveLevels;
         s.solve.roomScale.roomFraction = p.roomFraction;
-        s.solve.directSteps.levels = 0;  // measured: little per-object gain for twice the solve (docs/accuracy.md)
+        s.solve.directSteps.levels = 0;  // experimental: worse and 4x slower on level_small (docs/architecture.md)
         s.solve.lighting.emitters = EmitterLighting::Rays;
         s.solve.lighting.emitterSamples = p.emitterSamples;
         s.lightmap.mode = TexelMode::Gather;

@@ -163,7 +163,7 @@ void ProgressiveShooter::renderRow(std::uint32_t patch, std::uint64_t seed, Form
 bool ProgressiveShooter::unevenLight(std::uint32_t patch) const {
     const PatchArrays& pa = mesh_.patches;
     const ElementArrays& el = mesh_.elements;
-    if (pa.elementCount[patch] <= 1 || !(settings_.directShotSpread < 1.0) || !(pa.areaM2[patch] > 0.0)) return false;
+    if (pa.elementCount[patch] <= 1 || !(settings_.unevenShotSpread < 1.0) || !(pa.areaM2[patch] > 0.0)) return false;
     const std::uint32_t first = pa.firstElement[patch], end = first + pa.elementCount[patch];
     double total = 0.0;
     for (std::uint32_t e = first; e < end; ++e) total += unshotW_[e];
@@ -171,7 +171,7 @@ bool ProgressiveShooter::unevenLight(std::uint32_t patch) const {
     // Total-variation distance between the unshot light's distribution over the elements and the area's.
     double away = 0.0;
     for (std::uint32_t e = first; e < end; ++e) away += std::abs(unshotW_[e] / total - el.areaM2[e] / pa.areaM2[patch]);
-    return 0.5 * away > settings_.directShotSpread;
+    return 0.5 * away > settings_.unevenShotSpread;
 }
 
 std::vector<std::pair<std::uint32_t, double>> ProgressiveShooter::lightPicks(std::uint32_t patch) const {
@@ -247,6 +247,7 @@ void ProgressiveShooter::applyShot(const Shot& shot) {
     ++ledger_.shots;
     ledger_.hemicubes += shot.hemicubesRendered;
     ledger_.cachedShots += shot.hemicubesRendered == 0 ? 1 : 0;
+    ledger_.unevenShots += shot.uneven ? 1 : 0;
 }
 
 void ProgressiveShooter::applyRow(std::uint32_t patch, const FormFactorRow& row, const glm::dvec3& deltaRadiosity) {

@@ -30,6 +30,7 @@ struct ShootingLedger {
     std::uint64_t shots = 0;
     std::uint64_t hemicubes = 0;     // rendered; > shots when proximity asked for several sample points
     std::uint64_t cachedShots = 0;   // shots that reused their patch's cached form-factor row
+    std::uint64_t unevenShots = 0;   // shots from elements picked by the patch's uneven light (unevenShotSpread)
     std::size_t cacheBytes = 0;      // form-factor rows kept
 };
 
@@ -79,7 +80,7 @@ private:
     void addUnshot(std::uint32_t patch, const glm::dvec3& radiosity);
     void renderShot(std::uint32_t patch, Shot& shot) const;
     void renderRow(std::uint32_t patch, std::uint64_t seed, FormFactorRow& row) const;
-    // Whether `patch`'s unshot light lies unevenly over it: more than settings_.directShotSpread of it away from
+    // Whether `patch`'s unshot light lies unevenly over it: more than settings_.unevenShotSpread of it away from
     // an even spread over its area (total-variation distance between the two distributions over its elements).
     bool unevenLight(std::uint32_t patch) const;
     // Up to kMaxSamplesPerPatch elements picked by systematic sampling of `patch`'s unshot light, each with the

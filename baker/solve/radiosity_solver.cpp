@@ -112,6 +112,7 @@ void shootToBound(const PatchMesh& mesh, const SolveSettings& settings, Hemicube
     report.shots = ledger.shots;
     report.hemicubes = ledger.hemicubes;
     report.cachedShots = ledger.cachedShots;
+    report.unevenShots = ledger.unevenShots;
     report.formFactorCacheBytes = shooter.formFactorCacheBytes();
     report.escapedPowerW = ledger.escapedW;
     // Ray-traced emitters did not shoot: what they emitted and no front face received went to the sky or onto

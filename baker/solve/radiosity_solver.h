@@ -20,6 +20,7 @@ struct SolveReport {
     std::uint64_t shots = 0;
     std::uint64_t hemicubes = 0;   // shooting hemicubes + gathering hemicubes (rendered)
     std::uint64_t cachedShots = 0; // shots that reused a cached form-factor row (no hemicube rendered)
+    std::uint64_t unevenShots = 0; // shots from elements picked by the patch's uneven light
     std::size_t formFactorCacheBytes = 0;
     int gatherSweeps = 0;
     double directSeconds = 0.0, shootSeconds = 0.0, gatherSeconds = 0.0;

@@ -33,11 +33,11 @@ struct SolverSettings {
     // A patch re-shoots from one hemicube per element when something is nearer than this × the patch's size
     // (GROUND_TRUTH §3.4: one centred hemicube is 4.8 % low for hinged squares, 16 points 0.01 %).
     double proximityFactor = 2.0;
-    // The light a patch got directly (rays: emitters, punctual lights, sky) is shot, the first time, from hemicubes
-    // at elements chosen in proportion to it, when more than this fraction of it lies away from an even spread over
-    // the patch (a ceiling patch lit only above a hanging panel must send that light back into the panel's gap,
-    // not into the room). 1 = never: every shot from the patch's centre or area-weighted points. Typical 0.1.
-    double directShotSpread = 0.1;
+    // A patch whose unshot light lies unevenly over it (more than this fraction of it away from an even spread over
+    // its area) shoots from up to 16 elements picked in proportion to that light: a ceiling patch lit only above a
+    // hanging panel sends that light back into the panel's gap, not into the room. 1 = never (every shot from the
+    // patch's centre or area-weighted points). Presets 0.1.
+    double unevenShotSpread = 0.1;
     // Form-factor rows kept for patches that shoot again (0 = render every shot). Rows cost ≈ 8 bytes per
     // element a patch sees.
     double formFactorCacheMiB = 1024.0;
@@ -103,7 +103,7 @@ struct RoomScaleSettings {
 
 // Elements halved where direct light steps within them, before the solve (baker/solve/direct_steps.h).
 struct DirectStepSettings {
-    int levels = 0;                  // 0 = off (every preset; 3 takes 1.6 m elements to 0.2 m at a step)
+    int levels = 0;                  // 0 = off (every preset: experimental, see docs/architecture.md)
     double contrast = 0.5;           // (max − min) over an element's points > contrast × max
     int samplesPerSide = 2;          // k: k² points per element (the centroids of its k × k sub-triangles)
     int emitterSamples = 16;         // shadow rays per point towards emitters (a step, not a precise value)
