@@ -129,35 +129,16 @@ void ProgressiveShooter::renderRow(std::uint32_t patch, std::uint64_t seed, Form
 
     // Proximity: something is close relative to the patch, so one centred hemicube misrepresents the patch.
     // Integrate over the patch with one hemicube per (a spread subset of) its elements, area-weighted.
-    if (scratch.dense.size() != el.size()) scratch.dense.assign(el.size(), 0.0);
-    scratch.touched.clear();
     const std::uint32_t samples = std::min(count, kMaxSamplesPerPatch);
     const std::uint32_t first = pa.firstElement[patch];
     double sampledArea = 0.0;
     for (std::uint32_t s = 0; s < samples; ++s) sampledArea += el.areaM2[first + std::uint64_t(s) * count / samples];
-    row.skyFraction = row.backfaceFraction = 0.0;
-    row.hemicubes = 0;
+    std::vector<std::pair<std::uint32_t, double>> picks;
     for (std::uint32_t s = 0; s < samples; ++s) {
         const std::uint32_t e = first + std::uint32_t(std::uint64_t(s) * count / samples);
-        const double w = el.areaM2[e] / sampledArea;
-        frame = HemicubeFrame::randomlyRotated(el.centroid[e], glm::dvec3(el.normal[e]), seed * 1315423911u + s);
-        renderer.renderFormFactors(frame, scratch.list);
-        ++row.hemicubes;
-        for (std::size_t k = 0; k < scratch.list.size(); ++k) {
-            const std::uint32_t j = scratch.list.elements[k];
-            if (scratch.dense[j] == 0.0) scratch.touched.push_back(j);
-            scratch.dense[j] += w * scratch.list.formFactors[k];
-        }
-        row.skyFraction += w * scratch.list.skyFraction;
-        row.backfaceFraction += w * scratch.list.backfaceFraction;
+        picks.emplace_back(e, el.areaM2[e] / sampledArea);
     }
-    row.elements.clear();
-    row.formFactors.clear();
-    for (std::uint32_t j : scratch.touched) {
-        row.elements.push_back(j);
-        row.formFactors.push_back(float(scratch.dense[j]));
-        scratch.dense[j] = 0.0;
-    }
+    renderPickedRow(picks, seed, row);
 }
 
 bool ProgressiveShooter::unevenLight(std::uint32_t patch) const {
@@ -213,7 +194,7 @@ void ProgressiveShooter::renderPickedRow(const std::vector<std::pair<std::uint32
     for (std::size_t k = 0; k < picks.size(); ++k) {
         const auto [e, w] = picks[k];
         weights += w;
-        const HemicubeFrame frame = HemicubeFrame::randomlyRotated(el.centroid[e], glm::dvec3(el.normal[e]), seed * 2654435761u + k);
+        const HemicubeFrame frame = HemicubeFrame::randomlyRotated(el.centroid[e], glm::dvec3(el.normal[e]), seed * 1315423911u + k);
         renderer.renderFormFactors(frame, scratch.list);
         ++row.hemicubes;
         for (std::size_t i = 0; i < scratch.list.size(); ++i) {
@@ -224,7 +205,7 @@ void ProgressiveShooter::renderPickedRow(const std::vector<std::pair<std::uint32
         row.skyFraction += w * scratch.list.skyFraction;
         row.backfaceFraction += w * scratch.list.backfaceFraction;
     }
-    // The weights are k/n and sum to 1 up to rounding: normalise so the row shoots exactly the power given.
+    // The weights sum to 1 up to rounding: normalise so the row shoots exactly the power given.
     const double norm = weights > 0.0 ? 1.0 / weights : 0.0;
     row.skyFraction *= norm;
     row.backfaceFraction *= norm;

@@ -86,7 +86,7 @@ private:
     // Up to kMaxSamplesPerPatch elements picked by systematic sampling of `patch`'s unshot light, each with the
     // share it shoots from its centroid (weights sum to 1).
     std::vector<std::pair<std::uint32_t, double>> lightPicks(std::uint32_t patch) const;
-    // Form factors averaged over hemicubes at `picks`.
+    // Form factors averaged over hemicubes at the centroids of `picks` (element, weight), weights normalised.
     void renderPickedRow(const std::vector<std::pair<std::uint32_t, double>>& picks, std::uint64_t seed,
                          FormFactorRow& row) const;
     // The cached row `patch`'s next shot would use (its light-picked row when its light lies unevenly), or null.

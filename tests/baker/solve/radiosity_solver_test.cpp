@@ -23,6 +23,23 @@ SolveSettings shootOnly(double patchSize, int resolution) {
     return s;
 }
 
+PunctualLight pointLight(const glm::dvec3& position, float intensity) {
+    PunctualLight point;
+    point.type = LightType::Point;
+    point.position = position;
+    point.intensity = glm::vec3(intensity);
+    return point;
+}
+
+// Power in (emitters + direct light) equals power out (absorbed + escaped + absorbed on back faces + unshot) in
+// every channel, within `relative` of what came in. Returns the ratio out/in − 1 of the first channel.
+double expectLedgerBalances(const SolveReport& r, double relative) {
+    const glm::dvec3 in = r.emitterPowerW + r.directPowerW;
+    const glm::dvec3 out = r.absorbedPowerW + r.escapedPowerW + r.backfacePowerW + r.unshotPowerW;
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(out[c], in[c], relative * in[c]) << "channel " << c;
+    return out.x / in.x - 1.0;
+}
+
 }  // namespace
 
 // §2.A: B = E/(1−ρ) and H = B everywhere, whatever the meshing, when weights sum to exactly 1.
@@ -82,23 +99,15 @@ TEST(OneEmittingFace, AreaMeanRadiosity) {
 // Open scene: every watt emitted is absorbed, escapes, or is still unshot.
 TEST(EnergyBalance, OpenSceneConservesPower) {
     SceneBuilder b = openSceneWithLamp();
-    PunctualLight point;
-    point.type = LightType::Point;
-    point.position = {0.5, 0.8, 0.5};
-    point.intensity = glm::vec3(2.0f);
-    b.addLight(point);
+    b.addLight(pointLight({0.5, 0.8, 0.5}, 2.0f));
     SolveSettings s = shootOnly(0.25, 64);
     s.solver.epsilon = 1e-4;
     const auto solved = solveTestScene(b.build(), s);
     const SolveReport& r = solved->report;
     const glm::dvec3 in = r.emitterPowerW + r.directPowerW;
-    const glm::dvec3 out = r.absorbedPowerW + r.escapedPowerW + r.backfacePowerW + r.unshotPowerW;
-    std::printf("energy balance: in %.6f W, out %.6f W (rel %+.2e), escaped %.1f%%\n", in.x, out.x, out.x / in.x - 1.0,
-                100.0 * r.escapedPowerW.x / in.x);
-    for (int c = 0; c < 3; ++c) {
-        EXPECT_GT(r.escapedPowerW[c], 0.1 * in[c]);
-        EXPECT_NEAR(out[c], in[c], 1e-3 * in[c]) << "channel " << c;
-    }
+    const double balance = expectLedgerBalances(r, 1e-3);
+    std::printf("energy balance: in %.6f W (out/in %+.2e), escaped %.1f%%\n", in.x, balance, 100.0 * r.escapedPowerW.x / in.x);
+    for (int c = 0; c < 3; ++c) EXPECT_GT(r.escapedPowerW[c], 0.1 * in[c]);
 }
 
 // Issue 14: a row that did not fit the form-factor cache was moved into it all the same, so the shot delivered
@@ -116,9 +125,7 @@ TEST(FormFactorCacheBudget, TinyCacheBalancesTheLedgerAndMatchesTheFurnace) {
     // Patches whose rows did not fit bound what they can still give (ΔB_p ≤ per element): the local phase ends.
     EXPECT_EQ(r.stopReason, "converged");
     EXPECT_LT(r.shots, 2000u);
-    const glm::dvec3 in = r.emitterPowerW + r.directPowerW;
-    const glm::dvec3 out = r.absorbedPowerW + r.escapedPowerW + r.backfacePowerW + r.unshotPowerW;
-    for (int c = 0; c < 3; ++c) EXPECT_NEAR(out[c], in[c], 1e-9 * in[c]) << "channel " << c;
+    expectLedgerBalances(r, 1e-9);
     const double expected = le / (1.0 - double(rho));
     EXPECT_NEAR(meanIrradianceOverPi(*solved).x, expected, 0.005 * expected);
 }
@@ -133,11 +140,7 @@ TEST(UnevenShots, HotSpotIsShotFromWhereItLiesAndTheLedgerBalances) {
         const int grey = b.addMaterial(glm::vec3(0.6f));
         b.addQuad({-1, 0, -1}, {-1, 0, 1}, {1, 0, 1}, {1, 0, -1}, grey, "floor");
         b.addBox({0.45, 0.0, -0.3}, {0.65, 0.3, 0.3}, grey, false, "block");
-        PunctualLight point;
-        point.type = LightType::Point;
-        point.position = {0.85, 0.15, 0.0};
-        point.intensity = glm::vec3(1.0f);
-        b.addLight(point);
+        b.addLight(pointLight({0.85, 0.15, 0.0}, 1.0f));
         SolveSettings s = shootOnly(2.0, 64);
         s.subdivision.elementSizeM = 0.125;
         s.solver.epsilon = 1e-4;
@@ -147,11 +150,8 @@ TEST(UnevenShots, HotSpotIsShotFromWhereItLiesAndTheLedgerBalances) {
     const auto uneven = solve(SolverSettings{}.unevenShotSpread);
     const auto even = solve(1.0);
     for (const auto* solved : {uneven.get(), even.get()}) {
-        const SolveReport& r = solved->report;
-        const glm::dvec3 in = r.emitterPowerW + r.directPowerW;
-        const glm::dvec3 out = r.absorbedPowerW + r.escapedPowerW + r.backfacePowerW + r.unshotPowerW;
-        for (int c = 0; c < 3; ++c) EXPECT_NEAR(out[c], in[c], 1e-9 * in[c]) << "channel " << c;
-        EXPECT_EQ(r.stopReason, "converged");
+        expectLedgerBalances(solved->report, 1e-9);
+        EXPECT_EQ(solved->report.stopReason, "converged");
     }
     std::printf("uneven shots %llu of %llu\n", static_cast<unsigned long long>(uneven->report.unevenShots),
                 static_cast<unsigned long long>(uneven->report.shots));
