@@ -102,7 +102,7 @@ void ProgressiveShooter::renderShot(std::uint32_t patch, Shot& shot) const {
         cache_->countHit();
         return;
     }
-    if (shot.uneven) renderPickedRow(shot.picks, shot.seed, shot.own);
+    if (shot.uneven) renderPickedRow(shot.picks, shot.seed, shot.own, 2654435761u);
     else renderRow(patch, shot.seed, shot.own);
     shot.hemicubesRendered = shot.own.hemicubes;
     shot.row = cache_->store(slot, shot.own) ? cache_->find(slot) : &shot.own;
@@ -138,7 +138,7 @@ void ProgressiveShooter::renderRow(std::uint32_t patch, std::uint64_t seed, Form
         const std::uint32_t e = first + std::uint32_t(std::uint64_t(s) * count / samples);
         picks.emplace_back(e, el.areaM2[e] / sampledArea);
     }
-    renderPickedRow(picks, seed, row);
+    renderPickedRow(picks, seed, row, 1315423911u);
 }
 
 bool ProgressiveShooter::unevenLight(std::uint32_t patch) const {
@@ -168,8 +168,11 @@ std::vector<std::pair<std::uint32_t, double>> ProgressiveShooter::lightPicks(std
     std::uint32_t s = 0;
     for (std::uint32_t e = first; e < end && s < samples; ++e) {
         below += unshotW_[e];
+        // Equal elements put the cumulative share exactly on a stratum centre (16 samples over 32 equal elements):
+        // rounded to 1e-9, that tie is decided the same way at every scale instead of by the last bit.
+        const double share = std::round(below / total * 1e9) * 1e-9;
         std::uint32_t strata = 0;
-        while (s < samples && (double(s) + 0.5) / double(samples) * total < below) ++s, ++strata;
+        while (s < samples && (double(s) + 0.5) / double(samples) < share) ++s, ++strata;
         if (strata) picks.emplace_back(e, double(strata) / double(samples));
     }
     return picks;
@@ -180,7 +183,7 @@ const FormFactorRow* ProgressiveShooter::nextRow(std::uint32_t patch) const {
 }
 
 void ProgressiveShooter::renderPickedRow(const std::vector<std::pair<std::uint32_t, double>>& picks, std::uint64_t seed,
-                                         FormFactorRow& row) const {
+                                         FormFactorRow& row, std::uint64_t rotationStream) const {
     HemicubeRenderer& renderer = pool_.local();
     MergeScratch& scratch = scratch_->local();
     const ElementArrays& el = mesh_.elements;
@@ -194,7 +197,7 @@ void ProgressiveShooter::renderPickedRow(const std::vector<std::pair<std::uint32
     for (std::size_t k = 0; k < picks.size(); ++k) {
         const auto [e, w] = picks[k];
         weights += w;
-        const HemicubeFrame frame = HemicubeFrame::randomlyRotated(el.centroid[e], glm::dvec3(el.normal[e]), seed * 1315423911u + k);
+        const HemicubeFrame frame = HemicubeFrame::randomlyRotated(el.centroid[e], glm::dvec3(el.normal[e]), seed * rotationStream + k);
         renderer.renderFormFactors(frame, scratch.list);
         ++row.hemicubes;
         for (std::size_t i = 0; i < scratch.list.size(); ++i) {

@@ -86,9 +86,10 @@ private:
     // Up to kMaxSamplesPerPatch elements picked by systematic sampling of `patch`'s unshot light, each with the
     // share it shoots from its centroid (weights sum to 1).
     std::vector<std::pair<std::uint32_t, double>> lightPicks(std::uint32_t patch) const;
-    // Form factors averaged over hemicubes at the centroids of `picks` (element, weight), weights normalised.
+    // Form factors averaged over hemicubes at the centroids of `picks` (element, weight), weights normalised;
+    // hemicube k is rotated by seed × rotationStream + k (proximity and uneven rows draw different streams).
     void renderPickedRow(const std::vector<std::pair<std::uint32_t, double>>& picks, std::uint64_t seed,
-                         FormFactorRow& row) const;
+                         FormFactorRow& row, std::uint64_t rotationStream) const;
     // The cached row `patch`'s next shot would use (its light-picked row when its light lies unevenly), or null.
     const FormFactorRow* nextRow(std::uint32_t patch) const;
     std::uint32_t pickedSlot(std::uint32_t patch) const { return std::uint32_t(mesh_.patches.size()) + patch; }
