@@ -141,13 +141,19 @@ void ProgressiveShooter::renderRow(std::uint32_t patch, std::uint64_t seed, Form
     renderPickedRow(picks, seed, row, 1315423911u);
 }
 
+double ProgressiveShooter::unshotW(std::uint32_t patch) const {
+    const PatchArrays& pa = mesh_.patches;
+    double total = 0.0;
+    for (std::uint32_t e = pa.firstElement[patch], n = 0; n < pa.elementCount[patch]; ++n) total += unshotW_[e + n];
+    return total;
+}
+
 bool ProgressiveShooter::unevenLight(std::uint32_t patch) const {
     const PatchArrays& pa = mesh_.patches;
     const ElementArrays& el = mesh_.elements;
     if (pa.elementCount[patch] <= 1 || !(settings_.unevenShotSpread < 1.0) || !(pa.areaM2[patch] > 0.0)) return false;
     const std::uint32_t first = pa.firstElement[patch], end = first + pa.elementCount[patch];
-    double total = 0.0;
-    for (std::uint32_t e = first; e < end; ++e) total += unshotW_[e];
+    const double total = unshotW(patch);
     if (!(total > 0.0)) return false;
     // Total-variation distance between the unshot light's distribution over the elements and the area's.
     double away = 0.0;
@@ -158,8 +164,7 @@ bool ProgressiveShooter::unevenLight(std::uint32_t patch) const {
 std::vector<std::pair<std::uint32_t, double>> ProgressiveShooter::lightPicks(std::uint32_t patch) const {
     const PatchArrays& pa = mesh_.patches;
     const std::uint32_t first = pa.firstElement[patch], end = first + pa.elementCount[patch];
-    double total = 0.0;
-    for (std::uint32_t e = first; e < end; ++e) total += unshotW_[e];
+    const double total = unshotW(patch);
     // Systematic sampling: sample s sits at the element where the cumulative power passes (s + ½)/n of the total;
     // an element holding k of the n strata shoots k/n of the light from its centroid.
     std::vector<std::pair<std::uint32_t, double>> picks;

@@ -83,6 +83,7 @@ private:
     // Whether `patch`'s unshot light lies unevenly over it: more than settings_.unevenShotSpread of it away from
     // an even spread over its area (total-variation distance between the two distributions over its elements).
     bool unevenLight(std::uint32_t patch) const;
+    double unshotW(std::uint32_t patch) const;  // Σ unshotW_ over the patch's elements
     // Up to kMaxSamplesPerPatch elements picked by systematic sampling of `patch`'s unshot light, each with the
     // share it shoots from its centroid (weights sum to 1).
     std::vector<std::pair<std::uint32_t, double>> lightPicks(std::uint32_t patch) const;
