@@ -40,6 +40,8 @@ struct BakeOptions {
     std::optional<double> texelsPerUnit;
     std::optional<int> maxAtlasSize, padding, lattice;
     std::optional<double> interpTolerance;
+    bool flatGatherDirect = false;
+    std::optional<int> gapPasses;
     std::optional<std::string> texelMode;
     std::string uvMode = "unwrap";
     std::string gltfMode = "lightmap";
@@ -88,6 +90,8 @@ BakeSettings resolveSettings(const BakeOptions& o, double sceneDiagonalM) {
     override(o.padding, s.lightmap.paddingTexels);
     override(o.lattice, s.lightmap.latticeStep);
     override(o.interpTolerance, s.lightmap.interpolationTolerance);
+    if (o.flatGatherDirect) s.lightmap.gatherTexelDirect = false;
+    override(o.gapPasses, s.lightmap.gapPasses);
     if (o.texelMode) s.lightmap.mode = parseTexelMode(*o.texelMode);
     s.lightmap.keepExistingUv = o.uvMode == "keep";
     s.probes = o.probes;
@@ -213,6 +217,15 @@ CommandRunner addBakeCommand(CLI::App& app) {
                     "Adaptive placement: a texel is interpolated when the curvature its lattice neighbours show is "
                     "below this fraction of their value")
         ->check(CLI::Range(0.0, 1.0));
+    cmd->add_flag("--flat-gather-direct", o->flatGatherDirect,
+                  "Final gathers see each element's ray-traced direct light as its average instead of per lightmap "
+                  "texel (faster by a texture lookup per pixel; darker next to hot spots smaller than an element)");
+    cmd->add_option("--gap-passes", o->gapPasses,
+                    "Texels facing a surface nearer than a quarter of an element (a light panel hung under a ceiling) "
+                    "are gathered again, each pass seeing the texels of the one before (one bounce in the gap at texel "
+                    "resolution per pass), until a pass changes them by < 0.5 %, at most this many times (default 16; "
+                    "0 = off)")
+        ->check(CLI::Range(0, 16));
     cmd->add_option("--uv", o->uvMode, "unwrap: compute lightmap UVs; keep: use TEXCOORD_1 from the scene where present")
         ->capture_default_str()->check(CLI::IsMember({"unwrap", "keep"}));
     cmd->add_flag("--no-preview", o->noPreview,

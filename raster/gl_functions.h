@@ -60,6 +60,7 @@ public:
     X(BindTexture, GlBindTextureProc)                                        \
     X(TexImage2D, GlTexImage2DProc)                                          \
     X(TexParameteri, GlTexParameteriProc)                                    \
+    X(TexImage3D, PFNGLTEXIMAGE3DPROC)                                       \
     X(DrawArrays, GlDrawArraysProc)                                          \
     X(ActiveTexture, PFNGLACTIVETEXTUREPROC)                                 \
     X(TexBuffer, PFNGLTEXBUFFERPROC)                                         \

@@ -22,11 +22,14 @@ const char* kVertexShader = R"(#version 330 core
 layout(location = 0) in vec3 positionRelOrigin;
 layout(location = 1) in uint elementId;
 layout(location = 2) in vec3 elementNormal;
+layout(location = 3) in vec3 lightmapUvLayer;
 uniform vec3 eyeRelOrigin;
 uniform mat3 faceRows;   // rows: right, up, forward of this face
 uniform vec2 yTransform; // clip.y = up*x - forward*y: (1,0) full face, (2,1) upper half of a side face
 uniform float nearM;
 flat out uint element;
+out vec2 lightmapUv;
+flat out float lightmapLayer;
 void main() {
     vec3 toEye = eyeRelOrigin - positionRelOrigin;
     vec3 v = faceRows * -toEye;
@@ -35,6 +38,8 @@ void main() {
     gl_Position = vec4(v.x, v.y * yTransform.x - v.z * yTransform.y,
                        backFacing ? nearM * (1.0 - 1.0 / 1048576.0) : nearM, v.z);
     element = elementId;
+    lightmapUv = lightmapUvLayer.xy;
+    lightmapLayer = lightmapUvLayer.z;
 }
 )";
 
@@ -44,13 +49,26 @@ layout(location = 0) out uint item;
 void main() { item = gl_FrontFacing ? element : 0xFFFFFFFEu; }
 )";
 
-// Alpha tags the pixel class for the fractions: 0 sky (clear value), 1 front hit, 2 back face.
+// Alpha tags the pixel class for the fractions: 0 sky (clear value), 1 front hit, 2 back face. With a TexelLight
+// (SceneBuffers::setTexelLight) a fragment adds its element's scale times the light atlas at its lightmap UV.
 const char* kRadianceFragmentShader = R"(#version 330 core
 flat in uint element;
+in vec2 lightmapUv;
+flat in float lightmapLayer;
 uniform samplerBuffer elementRadiance;
+uniform samplerBuffer texelLightScale;
+uniform sampler2DArray texelLight;
+uniform bool texelLightOn;
 layout(location = 1) out vec4 radiance;
 void main() {
-    radiance = gl_FrontFacing ? vec4(texelFetch(elementRadiance, int(element)).rgb, 1.0) : vec4(0.0, 0.0, 0.0, 2.0);
+    if (!gl_FrontFacing) {
+        radiance = vec4(0.0, 0.0, 0.0, 2.0);
+        return;
+    }
+    vec3 l = texelFetch(elementRadiance, int(element)).rgb;
+    if (texelLightOn && lightmapLayer >= 0.0)
+        l += texelFetch(texelLightScale, int(element)).rgb * texture(texelLight, vec3(lightmapUv, lightmapLayer)).rgb;
+    radiance = vec4(l, 1.0);
 }
 )";
 
@@ -129,6 +147,9 @@ HemicubeRenderer::HemicubeRenderer(const SceneBuffers& scene, int resolution)
         u.yTransform = gl.GetUniformLocation(program.id(), "yTransform");
         u.nearM = gl.GetUniformLocation(program.id(), "nearM");
         u.radiance = gl.GetUniformLocation(program.id(), "elementRadiance");
+        u.texelLight = gl.GetUniformLocation(program.id(), "texelLight");
+        u.texelLightScale = gl.GetUniformLocation(program.id(), "texelLightScale");
+        u.texelLightOn = gl.GetUniformLocation(program.id(), "texelLightOn");
 
         return u;
     };
@@ -136,6 +157,8 @@ HemicubeRenderer::HemicubeRenderer(const SceneBuffers& scene, int resolution)
     radianceUniforms_ = locate(radianceProgram_);
     gl.UseProgram(radianceProgram_.id());
     gl.Uniform1i(radianceUniforms_.radiance, 0);
+    gl.Uniform1i(radianceUniforms_.texelLightScale, 1);
+    gl.Uniform1i(radianceUniforms_.texelLight, 2);
     gl.UseProgram(0);
     gl.check(("HemicubeRenderer: creating the R=" + std::to_string(resolution) + " atlas").c_str());
 
@@ -179,6 +202,14 @@ void HemicubeRenderer::draw(const HemicubeFrame& frame, Target target, glm::vec3
     if (!items) {
         gl.ActiveTexture(GL_TEXTURE0);
         gl.BindTexture(GL_TEXTURE_BUFFER, scene_->radianceTexture());
+        gl.Uniform1i(uniforms.texelLightOn, scene_->hasTexelLight() ? 1 : 0);
+        if (scene_->hasTexelLight()) {
+            gl.ActiveTexture(GL_TEXTURE1);
+            gl.BindTexture(GL_TEXTURE_BUFFER, scene_->texelLightScaleTexture());
+            gl.ActiveTexture(GL_TEXTURE2);
+            gl.BindTexture(GL_TEXTURE_2D_ARRAY, scene_->texelLightTexture());
+            gl.ActiveTexture(GL_TEXTURE0);
+        }
     }
 
     // Per face: the frame, and the chunks that pass CPU culling as the draws of one multi-draw. The slack covers

@@ -75,7 +75,8 @@ public:
 
     // Item buffer → form factors. `out` is cleared first; no allocation once its capacity has warmed up.
     void renderFormFactors(const HemicubeFrame& frame, FormFactorList& out);
-    // Radiance buffer (element radiance from SceneBuffers::setElementRadiance) → E/π, in double.
+    // Radiance buffer (element radiance from SceneBuffers::setElementRadiance, plus its TexelLight if set) → E/π,
+    // in double.
     RadianceGather gatherRadiance(const HemicubeFrame& frame, glm::vec3 skyRadiance);
     glm::dvec3 gatherIrradianceOverPi(const HemicubeFrame& frame, glm::vec3 skyRadiance) {
         return gatherRadiance(frame, skyRadiance).irradianceOverPi;
@@ -108,7 +109,8 @@ private:
     GlObject itemProgram_;
     GlObject radianceProgram_;
     struct Uniforms {
-        GLint eye = -1, faceRows = -1, yTransform = -1, nearM = -1, radiance = -1;
+        GLint eye = -1, faceRows = -1, yTransform = -1, nearM = -1, radiance = -1, texelLight = -1, texelLightScale = -1,
+              texelLightOn = -1;
     } itemUniforms_, radianceUniforms_;
 
     // Scratch, sized once.

@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace hemibake {
 
@@ -23,7 +24,19 @@ HemicubeRenderer& HemicubePool::local() {
         worker->buffers.setElementRadiance(radiance_);
         worker->radianceVersion = radianceVersion_;
     }
+    if (worker->texelLightVersion != texelLightVersion_) {
+        if (texelLight_)
+            worker->buffers.setTexelLight(*texelLight_);
+        else
+            worker->buffers.clearTexelLight();
+        worker->texelLightVersion = texelLightVersion_;
+    }
     return worker->renderer;
+}
+
+void HemicubePool::setTexelLight(std::shared_ptr<const TexelLight> light) {
+    texelLight_ = std::move(light);
+    ++texelLightVersion_;
 }
 
 void HemicubePool::setElementRadiance(std::span<const glm::vec3> radiance) {

@@ -34,6 +34,10 @@ public:
     // local(); must not be called while other threads are inside local() or rendering.
     void setElementRadiance(std::span<const glm::vec3> radiance);
 
+    // Light varying inside elements for the next gathers (SceneBuffers::setTexelLight), uploaded lazily like the
+    // radiance; same threading rule. `light` is kept by the pool; nullptr turns it off.
+    void setTexelLight(std::shared_ptr<const TexelLight> light);
+
     std::size_t workerCount() const { return workers_.size(); }
     int resolution() const { return resolution_; }
 
@@ -43,6 +47,7 @@ private:
         SceneBuffers buffers;
         HemicubeRenderer renderer;
         std::uint64_t radianceVersion = 0;
+        std::uint64_t texelLightVersion = 0;
         Worker(const PatchMesh& mesh, int resolution);
     };
 
@@ -50,6 +55,8 @@ private:
     int resolution_;
     std::vector<glm::vec3> radiance_;
     std::uint64_t radianceVersion_ = 0;  // 0 = never set: buffers start at zero radiance
+    std::shared_ptr<const TexelLight> texelLight_;
+    std::uint64_t texelLightVersion_ = 0;  // 0 = never set
     tbb::enumerable_thread_specific<std::unique_ptr<Worker>> workers_;  // last: dies first
 };
 

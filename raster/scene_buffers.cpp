@@ -59,6 +59,7 @@ SceneBuffers::SceneBuffers(const GlContext& context, const PatchMesh& mesh, std:
     std::vector<std::uint32_t> order(elementCount_);
     std::iota(order.begin(), order.end(), 0u);
     splitIntoChunks(order, 0, elementCount_, centroids, trianglesPerChunk);
+    order_ = order;
 
     struct Vertex {
         glm::vec3 position;  // relative to the mesh origin
@@ -126,6 +127,59 @@ void SceneBuffers::setElementRadiance(std::span<const glm::vec3> radiance) {
     gl.BufferSubData(GL_TEXTURE_BUFFER, 0, static_cast<GLsizeiptr>(radiance.size_bytes()), radiance.data());
     gl.BindBuffer(GL_TEXTURE_BUFFER, 0);
     gl.check("SceneBuffers::setElementRadiance");
+}
+
+void SceneBuffers::setTexelLight(const TexelLight& light) {
+    const std::size_t texels = std::size_t(std::max(light.atlasSize, 0)) * std::size_t(std::max(light.atlasSize, 0));
+    if (light.cornerUvLayer.size() != elementCount_ || light.scale.size() != elementCount_ || light.layers.empty() ||
+        texels == 0)
+        throw GlError("SceneBuffers::setTexelLight: arrays do not match the " + std::to_string(elementCount_) + " elements");
+    std::vector<glm::vec3> image;
+    image.reserve(texels * light.layers.size());
+    for (const std::vector<glm::vec3>& layer : light.layers) {
+        if (layer.size() != texels) throw GlError("SceneBuffers::setTexelLight: a layer is not atlasSize² texels");
+        image.insert(image.end(), layer.begin(), layer.end());
+    }
+    std::vector<glm::vec3> uvLayer;
+    uvLayer.reserve(3 * elementCount_);
+    for (const std::uint32_t e : order_)
+        for (const glm::vec3& corner : light.cornerUvLayer[e]) uvLayer.push_back(corner);
+
+    auto bound = context_->bind();
+    const GlFunctions& gl = context_->gl();
+    if (!hasTexelLight_) {
+        texelLightUvBuffer_ = GlObject(*context_, GlObjectKind::Buffer);
+        texelLightTexture_ = GlObject(*context_, GlObjectKind::Texture);
+        texelLightScaleBuffer_ = GlObject(*context_, GlObjectKind::Buffer);
+        texelLightScaleTexture_ = GlObject(*context_, GlObjectKind::Texture);
+    }
+    gl.BindVertexArray(vertexArray_.id());
+    gl.BindBuffer(GL_ARRAY_BUFFER, texelLightUvBuffer_.id());
+    gl.BufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(uvLayer.size() * sizeof(glm::vec3)), uvLayer.data(), GL_STATIC_DRAW);
+    gl.EnableVertexAttribArray(3);
+    gl.VertexAttribPointer(3, 3, GL_FLOAT, GL_FALSE, sizeof(glm::vec3), nullptr);
+    gl.BindVertexArray(0);
+    gl.BindBuffer(GL_ARRAY_BUFFER, 0);
+
+    gl.BindTexture(GL_TEXTURE_2D_ARRAY, texelLightTexture_.id());
+    gl.TexImage3D(GL_TEXTURE_2D_ARRAY, 0, GL_RGB32F, light.atlasSize, light.atlasSize, GLsizei(light.layers.size()), 0,
+                  GL_RGB, GL_FLOAT, image.data());
+    gl.TexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    gl.TexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    gl.TexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    gl.TexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    gl.BindTexture(GL_TEXTURE_2D_ARRAY, 0);
+
+    gl.BindBuffer(GL_TEXTURE_BUFFER, texelLightScaleBuffer_.id());
+    gl.BufferData(GL_TEXTURE_BUFFER, static_cast<GLsizeiptr>(light.scale.size() * sizeof(glm::vec3)), light.scale.data(),
+                  GL_STATIC_DRAW);
+    gl.BindTexture(GL_TEXTURE_BUFFER, texelLightScaleTexture_.id());
+    gl.TexBuffer(GL_TEXTURE_BUFFER, GL_RGB32F, texelLightScaleBuffer_.id());
+    gl.BindTexture(GL_TEXTURE_BUFFER, 0);
+    gl.BindBuffer(GL_TEXTURE_BUFFER, 0);
+    gl.check(("SceneBuffers::setTexelLight: " + std::to_string(light.layers.size()) + " layers of " +
+              std::to_string(light.atlasSize) + "²").c_str());
+    hasTexelLight_ = true;
 }
 
 }  // namespace hemibake

@@ -8,6 +8,7 @@
 // of the radiance texture buffer) and its element's normal (to tell back faces in the vertex stage). (Shared, indexed vertices were tried: llvmpipe then runs the vertex shader
 // over each multi-draw's whole index range, which costs more than 3 vertices per triangle; see
 // docs/performance.md.)
+#include <array>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -18,6 +19,16 @@
 #include "raster/gl_object.h"
 
 namespace hemibake {
+
+// Light that varies inside elements, shown per fragment through lightmap UVs: a radiance-buffer fragment of element
+// e shows elementRadiance[e] + scale[e] · layers[layer](u, v), bilinear. The final gather uses it for ray-traced
+// direct light, whose hot spots and shadow edges are much finer than elements (a ceiling 5 cm above a light panel).
+struct TexelLight {
+    int atlasSize = 0;  // every layer is atlasSize² texels; corner UVs address it (a smaller atlas uses its corner)
+    std::vector<std::vector<glm::vec3>> layers;           // per layer, atlasSize², row 0 at v = 0; W·m⁻²·sr⁻¹
+    std::vector<std::array<glm::vec3, 3>> cornerUvLayer;  // per element, per corner: (u, v, layer); layer < 0: none
+    std::vector<glm::vec3> scale;                         // per element (e.g. ρ and a normalisation)
+};
 
 class SceneBuffers {
 public:
@@ -37,14 +48,23 @@ public:
     // Outgoing radiance per element, W·m⁻²·sr⁻¹ (= B/π for Lambertian elements). Starts at 0.
     void setElementRadiance(std::span<const glm::vec3> radiance);
 
+    // Uploads `light` (its arrays sized to the elements, layers to atlasSize²); replaces any earlier one. Throws
+    // GlError on a size mismatch or GL failure. Binds the context.
+    void setTexelLight(const TexelLight& light);
+    void clearTexelLight() { hasTexelLight_ = false; }  // radiance fragments show elementRadiance only
+    bool hasTexelLight() const { return hasTexelLight_; }
+
     const GlContext& context() const { return *context_; }
     std::size_t elementCount() const { return elementCount_; }
     std::span<const Chunk> chunks() const { return chunks_; }
     const glm::dvec3& origin() const { return origin_; }
     double sceneDiagonalM() const { return sceneDiagonalM_; }
-    // Vertex array: attribute 0 position (vec3), 1 element index (uint), 2 element normal (packed vec4).
+    // Vertex array: attribute 0 position (vec3), 1 element index (uint), 2 element normal (packed vec4), 3 lightmap
+    // (u, v, layer) once a TexelLight is set.
     GLuint vertexArray() const { return vertexArray_.id(); }
     GLuint radianceTexture() const { return radianceTexture_.id(); }  // RGB32F, per element
+    GLuint texelLightTexture() const { return texelLightTexture_.id(); }  // 2D array, RGB32F (0 until set)
+    GLuint texelLightScaleTexture() const { return texelLightScaleTexture_.id(); }  // RGB32F, per element
 
 private:
     const GlContext* context_;
@@ -56,6 +76,12 @@ private:
     GlObject vertexArray_;
     GlObject radianceBuffer_;
     GlObject radianceTexture_;
+    std::vector<std::uint32_t> order_;  // element drawn as triangle k (vertices 3k … 3k + 2)
+    bool hasTexelLight_ = false;
+    GlObject texelLightUvBuffer_;  // attribute 3: (u, v, layer) per vertex
+    GlObject texelLightTexture_;
+    GlObject texelLightScaleBuffer_;
+    GlObject texelLightScaleTexture_;
 };
 
 }  // namespace hemibake

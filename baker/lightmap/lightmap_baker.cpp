@@ -10,6 +10,7 @@
 #include "baker/direct/direct_light.h"
 #include "baker/direct/emissive_area_lights.h"
 #include "baker/lightmap/element_interpolation.h"
+#include "baker/lightmap/texel_light.h"
 #include "baker/rays/embree_scene.h"
 #include "baker/solve/gatherer.h"
 #include "baker/solve/solve_scene.h"
@@ -306,8 +307,9 @@ namespace {
 class TexelSolver {
 public:
     TexelSolver(const Scene& scene, const SolvedScene& solved, const EmbreeScene& rays, const LightmapSettings& settings,
-                const SolveSettings& solve)
-        : scene_(scene), settings_(settings), solve_(solve),
+                const SolveSettings& solve, const UvAtlas& atlas, const std::vector<AtlasTexels>& texels,
+                LightmapStats& stats)
+        : scene_(scene), solved_(solved), atlas_(atlas), settings_(settings), solve_(solve),
           // Ray-traced direct light at every texel: punctual lights, and emitters when the solver ray traced them
           // (same decision, same inputs); the gather then sees emitters without their emission.
           rays_(rays), areaLights_(makeEmissiveAreaLights(solved.mesh, rays, solve.lighting)),
@@ -317,18 +319,37 @@ public:
             DirectLightSettings ds;
             ds.sunAngularDiameterRad = solve.lighting.sunAngularDiameterRad;
             direct_ = std::make_unique<DirectLight>(scene, rays, ds, areaLights_.get());
+            // Direct light at every texel of every atlas first: the gathers of one atlas see the others' texels.
+            directValue_.resize(texels.size());
+            for (std::size_t a = 0; a < texels.size(); ++a) {
+                directValue_[a].resize(texels[a].count());
+                tbb::parallel_for(std::size_t(0), texels[a].count(),
+                                  [&](std::size_t i) { directValue_[a][i] = directAt(a, texels[a], i); });
+            }
         }
         if (settings.mode == TexelMode::Gather) {
             std::vector<glm::vec3> radiance(solved.mesh.elements.size());
             for (std::size_t e = 0; e < radiance.size(); ++e)
                 radiance[e] = solved.solution.gatherRadiance(solved.mesh, e, areaLights_ != nullptr);
+            std::shared_ptr<TexelLight> light;
+            if (settings.gatherTexelDirect && direct_ && !texels.empty()) {
+                TexelLightStats ts;
+                std::vector<glm::dvec3> elementDirectOverPi(solved.solution.rayTracedIrradiance);
+                for (glm::dvec3& d : elementDirectOverPi) d /= M_PI;
+                light = makeTexelLight(scene, solved.mesh, atlas, texels, directValue_, elementDirectOverPi, radiance, ts);
+                stats.texelDirectElements = ts.elementsMapped;
+                stats.flatDirectElementsNoUv = ts.elementsNoUv;
+                stats.flatDirectElementsDisagree = ts.elementsDisagree;
+            }
+            solved.pool->setTexelLight(std::move(light));
             gatherer_.setElementRadiance(radiance);
         }
     }
 
     // E/π of atlas `a`'s texels by adaptively placed final-gather hemicubes plus direct light per texel.
+    // `inside` receives the texels found inside geometry (before they were refilled).
     std::vector<glm::dvec3> gathered(std::size_t a, const AtlasTexels& t, double texelSizeM, LightmapStats& stats,
-                                     const std::function<void(std::size_t)>& advanced) {
+                                     const std::function<void(std::size_t)>& advanced, std::vector<std::uint8_t>& inside) {
         const GatherFn gather = [&](const std::vector<std::uint32_t>& ids, std::vector<glm::dvec3>& out,
                                     std::vector<float>& backface) {
             std::vector<GatherPoint> points(ids.size());
@@ -336,19 +357,78 @@ public:
             gatherer_.gather(points, solve_.lighting.skyRadiance, a + 1, out, &backface);
         };
         // Direct light at every texel: its shadows are as sharp as the texel grid allows.
-        std::vector<glm::dvec3> directValue;
-        if (direct_) {
-            directValue.resize(t.count());
-            tbb::parallel_for(std::size_t(0), t.count(),
-                              [&](std::size_t i) { directValue[i] = directAt(a, t, i); });
-        }
+        static const std::vector<glm::dvec3> kNone;
+        const std::vector<glm::dvec3>& directValue = direct_ ? directValue_[a] : kNone;
         std::vector<glm::dvec3> value;
         std::vector<std::uint8_t> invalid;
         AdaptivePlacer(t, settings_, texelSizeM, rays_, gather, directValue, stats).run(value, invalid, advanced);
         stats.invalid += std::size_t(std::count(invalid.begin(), invalid.end(), 1));
+        inside = invalid;
         refillInvalid(t, texelSizeM, rays_, value, invalid);
         for (std::size_t i = 0; i < directValue.size(); ++i) value[i] += directValue[i];
         return value;
+    }
+
+    // Texels facing another surface across a gap narrower than elements (the top of a light panel 5 cm under a
+    // ceiling, and the ceiling above it) see light that varies within the elements across the gap, and bounces back
+    // and forth in it: each pass re-gathers them seeing every texel's light of the pass before (texel_light.h), one
+    // bounce in the gap at texel resolution per pass, until a pass changes them by at most gapTolerance of their light
+    // (the elements cannot converge the gap: they let the light it traps spread and escape). `values` (E/π per
+    // texel per atlas) are updated in place.
+    void refineGaps(const std::vector<AtlasTexels>& texels, std::vector<std::vector<glm::dvec3>>& values,
+                    const std::vector<std::vector<std::uint8_t>>& inside, LightmapStats& stats) {
+        if (settings_.gapPasses <= 0 || settings_.mode != TexelMode::Gather || texels.empty()) return;
+        const double gapM = kGapPerElementSize * solve_.subdivision.elementSizeM;
+        std::vector<std::vector<std::uint32_t>> gaps(texels.size());
+        std::size_t count = 0;
+        for (std::size_t a = 0; a < texels.size(); ++a) {
+            const AtlasTexels& t = texels[a];
+            std::vector<std::uint8_t> gap(t.count(), 0);
+            tbb::parallel_for(std::size_t(0), t.count(), [&](std::size_t i) {
+                const glm::dvec3 n(t.normal[i]);
+                gap[i] = !inside[a][i] &&
+                         rays_.occludedRay(rays_.offsetFromSurface(t.position[i], n), n, gapM, EmbreeScene::RayEnds::Lifted);
+            });
+            for (std::size_t i = 0; i < t.count(); ++i)
+                if (gap[i]) gaps[a].push_back(std::uint32_t(i));
+            count += gaps[a].size();
+        }
+        stats.gapTexels = count;
+        if (count == 0) return;
+        const PatchMesh& mesh = solved_.mesh;
+        for (int pass = 0; pass < settings_.gapPasses; ++pass) {
+            std::vector<glm::vec3> radiance(mesh.elements.size());
+            std::vector<glm::dvec3> elementOverPi(mesh.elements.size());
+            for (std::size_t e = 0; e < radiance.size(); ++e) {
+                radiance[e] = solved_.solution.gatherRadiance(mesh, e, areaLights_ != nullptr);
+                elementOverPi[e] = solved_.solution.displayIrradiance(e) / M_PI;
+            }
+            TexelLightStats ts;
+            // Not normalised to the elements: across the gap they are what is wrong (a 1.6 m element lets the light
+            // the panel reflects spread and escape, where in the gap it bounces back and forth).
+            solved_.pool->setTexelLight(
+                makeTexelLight(scene_, mesh, atlas_, texels, values, elementOverPi, radiance, ts, false));
+            gatherer_.setElementRadiance(radiance);
+            std::vector<std::vector<glm::dvec3>> next(texels.size());
+            for (std::size_t a = 0; a < texels.size(); ++a) {
+                std::vector<GatherPoint> points(gaps[a].size());
+                for (std::size_t k = 0; k < points.size(); ++k)
+                    points[k] = {texels[a].position[gaps[a][k]], texels[a].normal[gaps[a][k]]};
+                gatherer_.gather(points, solve_.lighting.skyRadiance, (std::uint64_t(pass) + 1) * 0x10000ull + a, next[a]);
+            }
+            double change = 0.0, total = 0.0;
+            for (std::size_t a = 0; a < texels.size(); ++a)
+                for (std::size_t k = 0; k < gaps[a].size(); ++k) {
+                    glm::dvec3& v = values[a][gaps[a][k]];
+                    const glm::dvec3 updated = next[a][k] + (direct_ ? directValue_[a][gaps[a][k]] : glm::dvec3(0.0));
+                    change += std::abs(channelSum(updated - v));
+                    total += channelSum(updated);
+                    v = updated;
+                }
+            ++stats.gapPasses;
+            stats.gapLastChange = total > 0.0 ? change / total : 0.0;
+            if (stats.gapLastChange <= settings_.gapTolerance) break;
+        }
     }
 
     // E/π of atlas `a`'s texels interpolated from the elements, plus direct light per texel.
@@ -359,7 +439,7 @@ public:
             const auto sourceFace = std::uint32_t(m.sourceFace(SurfaceMesh::FaceHandle(t.face[i])));
             const auto e = interpolator_.locate(std::uint32_t(t.instance[i]), sourceFace, t.position[i]);
             if (e) value[i] = interpolator_.valueAt(*e, t.position[i]) / M_PI;
-            if (direct_) value[i] += directAt(a, t, i);
+            if (direct_) value[i] += directValue_[a][i];
         });
         return value;
     }
@@ -382,12 +462,18 @@ private:
         return irradiance;
     }
 
+    // A surface nearer than this fraction of the element size faces a texel across a gap (refineGaps).
+    static constexpr double kGapPerElementSize = 0.25;
+
     const Scene& scene_;
+    const SolvedScene& solved_;
+    const UvAtlas& atlas_;
     const LightmapSettings& settings_;
     const SolveSettings& solve_;
     const EmbreeScene& rays_;
     std::unique_ptr<EmissiveAreaLights> areaLights_;
     std::unique_ptr<DirectLight> direct_;
+    std::vector<std::vector<glm::dvec3>> directValue_;  // E/π per texel per atlas, when there is ray-traced light
     Gatherer gatherer_;
     ElementInterpolator interpolator_;
 };
@@ -403,20 +489,25 @@ std::vector<LightmapImage> bakeLightmaps(const Scene& scene, const SolvedScene& 
     for (const AtlasTexels& t : texels) total += t.count();
     stats.texels = total;
     const double texelSizeM = atlas.texelsPerUnit > 0.0 ? 1.0 / atlas.texelsPerUnit : 0.0;
-    TexelSolver solver(scene, solved, rays, settings, solve);
+    TexelSolver solver(scene, solved, rays, settings, solve, atlas, texels, stats);
+    std::vector<std::vector<glm::dvec3>> values(texels.size());
+    std::vector<std::vector<std::uint8_t>> inside(texels.size());
     for (std::size_t a = 0; a < texels.size(); ++a) {
-        const AtlasTexels& t = texels[a];
-        std::vector<glm::dvec3> value;
         if (settings.mode == TexelMode::Gather) {
-            value = solver.gathered(a, t, texelSizeM, stats, [&](std::size_t k) {
+            values[a] = solver.gathered(a, texels[a], texelSizeM, stats, [&](std::size_t k) {
                 done += k;
                 if (progress) progress(done, total);
-            });
+            }, inside[a]);
         } else {
-            value = solver.interpolated(a, t);
-            done += t.count();
+            values[a] = solver.interpolated(a, texels[a]);
+            done += texels[a].count();
             if (progress) progress(done, total);
         }
+    }
+    solver.refineGaps(texels, values, inside, stats);
+    for (std::size_t a = 0; a < texels.size(); ++a) {
+        const AtlasTexels& t = texels[a];
+        const std::vector<glm::dvec3>& value = values[a];
         LightmapImage& image = images[a];
         image.resize(t.size);
         for (std::size_t i = 0; i < t.count(); ++i) {

@@ -22,6 +22,14 @@ struct LightmapSettings {
     int latticeStep = 4;            // Elias-style placement: hemicubes on every 4th texel first (power of two)
     double interpolationTolerance = 0.05;  // interpolate a texel when its lattice neighbours agree within this
     double invalidBackfaceFraction = 0.1;  // a texel whose hemicube sees more back faces is inside geometry
+    // Final gathers see ray-traced direct light per texel instead of per element (texel_light.h): right next to a
+    // hot spot smaller than an element, e.g. the top of a light panel hung under a ceiling.
+    bool gatherTexelDirect = true;
+    // Texels facing a surface closer than a quarter of an element (a panel hung under a ceiling) are gathered again,
+    // each pass seeing the texels' light of the one before (one bounce in the gap per pass), until a pass changes
+    // them by less than gapTolerance of their light, at most gapPasses times (0 = off).
+    int gapPasses = 16;
+    double gapTolerance = 0.005;
     int dilationTexels = 2;         // padding texels filled from their chart's edge
     bool stitchSeams = true;
     bool keepExistingUv = false;    // use TEXCOORD_1 from the input where present

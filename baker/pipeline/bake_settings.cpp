@@ -84,6 +84,9 @@ void visitKnobs(BakeSettings& s, Visitor&& v) {
     v("latticeStep", lm.latticeStep);
     v("interpolationTolerance", lm.interpolationTolerance);
     v("invalidBackfaceFraction", lm.invalidBackfaceFraction);
+    v("gatherTexelDirect", lm.gatherTexelDirect);
+    v("gapPasses", lm.gapPasses);
+    v("gapTolerance", lm.gapTolerance);
     v("dilationTexels", lm.dilationTexels);
     v("stitchSeams", lm.stitchSeams);
     v("texelNormalOffsetRelative", lm.texels.normalOffsetRelative);

@@ -1,0 +1,192 @@
+#include "baker/lightmap/texel_light.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <tbb/parallel_for.h>
+
+#include "baker/util/colour.h"
+#include "baker/util/stopwatch.h"
+
+namespace hemibake {
+
+namespace {
+
+// An element's share may differ from the texels' mean over it by this factor before the element stays flat: beyond
+// it the texels do not describe the element (it lies in a shadow the texel centres miss, or off its chart).
+constexpr double kMaxNormalisation = 2.0;
+
+// Empty texels next to filled ones take the mean of their filled 8-neighbours, `rings` deep, so bilinear lookups at
+// a chart's edge do not blend in black padding.
+void dilateLayer(std::vector<glm::vec3>& image, std::vector<std::uint8_t>& filled, int size, int rings) {
+    for (int ring = 0; ring < rings; ++ring) {
+        std::vector<std::pair<std::size_t, glm::vec3>> fills;
+        for (int y = 0; y < size; ++y)
+            for (int x = 0; x < size; ++x) {
+                const std::size_t i = std::size_t(y) * std::size_t(size) + std::size_t(x);
+                if (filled[i]) continue;
+                glm::vec3 sum(0.0f);
+                int count = 0;
+                for (int dy = -1; dy <= 1; ++dy)
+                    for (int dx = -1; dx <= 1; ++dx) {
+                        const int nx = x + dx, ny = y + dy;
+                        if (nx < 0 || ny < 0 || nx >= size || ny >= size) continue;
+                        const std::size_t j = std::size_t(ny) * std::size_t(size) + std::size_t(nx);
+                        if (!filled[j]) continue;
+                        sum += image[j];
+                        ++count;
+                    }
+                if (count) fills.emplace_back(i, sum / float(count));
+            }
+        for (const auto& [i, v] : fills) {
+            image[i] = v;
+            filled[i] = 1;
+        }
+    }
+}
+
+// Bilinear lookup as the GPU does it (texel centres at (i + ½)/S, clamped at the image's edge).
+glm::dvec3 bilinear(const std::vector<glm::vec3>& image, int size, glm::dvec2 texelCoord) {
+    const double x = std::clamp(texelCoord.x - 0.5, 0.0, double(size - 1));
+    const double y = std::clamp(texelCoord.y - 0.5, 0.0, double(size - 1));
+    const int x0 = std::min(int(x), size - 1), y0 = std::min(int(y), size - 1);
+    const int x1 = std::min(x0 + 1, size - 1), y1 = std::min(y0 + 1, size - 1);
+    const double fx = x - x0, fy = y - y0;
+    auto at = [&](int xi, int yi) { return glm::dvec3(image[std::size_t(yi) * std::size_t(size) + std::size_t(xi)]); };
+    return (1.0 - fy) * ((1.0 - fx) * at(x0, y0) + fx * at(x1, y0)) + fy * ((1.0 - fx) * at(x0, y1) + fx * at(x1, y1));
+}
+
+// Barycentric weights of q's projection onto the plane of triangle p (false for a degenerate triangle).
+bool barycentric(const glm::dvec3 p[3], const glm::dvec3& q, glm::dvec3& b) {
+    const glm::dvec3 v0 = p[1] - p[0], v1 = p[2] - p[0], v2 = q - p[0];
+    const double d00 = glm::dot(v0, v0), d01 = glm::dot(v0, v1), d11 = glm::dot(v1, v1);
+    const double d20 = glm::dot(v2, v0), d21 = glm::dot(v2, v1);
+    const double den = d00 * d11 - d01 * d01;
+    if (!(den > 1e-12 * d00 * d11) || !(den > 0.0)) return false;
+    b.y = (d11 * d20 - d01 * d21) / den;
+    b.z = (d00 * d21 - d01 * d20) / den;
+    b.x = 1.0 - b.y - b.z;
+    return true;
+}
+
+// Mean of the bilinear image over a UV triangle (texel coordinates), from the centroids of k² equal sub-triangles.
+glm::dvec3 meanOverTriangle(const std::vector<glm::vec3>& image, int size, const glm::dvec2 t[3]) {
+    const double areaTexels = 0.5 * std::abs((t[1].x - t[0].x) * (t[2].y - t[0].y) - (t[2].x - t[0].x) * (t[1].y - t[0].y));
+    const int k = std::clamp(int(std::ceil(2.0 * std::sqrt(areaTexels))), 2, 48);
+    glm::dvec3 sum(0.0);
+    auto at = [&](double a, double b) { return bilinear(image, size, (1.0 - a - b) * t[0] + a * t[1] + b * t[2]); };
+    for (int i = 0; i < k; ++i)
+        for (int j = 0; i + j < k; ++j) {
+            sum += at((i + 1.0 / 3.0) / k, (j + 1.0 / 3.0) / k);
+            if (i + j <= k - 2) sum += at((i + 2.0 / 3.0) / k, (j + 2.0 / 3.0) / k);
+        }
+    return sum / double(k * k);
+}
+
+}  // namespace
+
+std::shared_ptr<TexelLight> makeTexelLight(const Scene& scene, const PatchMesh& mesh, const UvAtlas& atlas,
+                                           const std::vector<AtlasTexels>& texels,
+                                           const std::vector<std::vector<glm::dvec3>>& texelOverPi,
+                                           const std::vector<glm::dvec3>& elementOverPi,
+                                           std::vector<glm::vec3>& gatherRadiance, TexelLightStats& stats,
+                                           bool normalise) {
+    const Stopwatch clock;
+    auto light = std::make_shared<TexelLight>();
+    for (const AtlasTexels& t : texels) light->atlasSize = std::max(light->atlasSize, t.size);
+    const int size = light->atlasSize;
+    const auto pixels = std::size_t(size) * std::size_t(size);
+    light->layers.assign(texels.size(), std::vector<glm::vec3>(pixels, glm::vec3(0.0f)));
+    tbb::parallel_for(std::size_t(0), texels.size(), [&](std::size_t a) {
+        const AtlasTexels& t = texels[a];
+        std::vector<std::uint8_t> filled(pixels, 0);
+        for (std::size_t i = 0; i < t.count(); ++i) {
+            const std::size_t px = std::size_t(t.y[i]) * std::size_t(size) + t.x[i];
+            light->layers[a][px] = glm::vec3(texelOverPi[a][i]);
+            filled[px] = 1;
+        }
+        dilateLayer(light->layers[a], filled, size, 3);
+    });
+
+    // Unwrapped triangles by (instance, source face): an element lies in one of its source face's triangles.
+    std::vector<std::vector<std::vector<std::uint32_t>>> trianglesOfFace(scene.instances.size());
+    for (std::size_t inst = 0; inst < scene.instances.size() && inst < atlas.instances.size(); ++inst) {
+        const UnwrappedInstance& ui = atlas.instances[inst];
+        const SurfaceMesh& m = scene.instances[inst].mesh;
+        auto& byFace = trianglesOfFace[inst];
+        for (std::size_t tri = 0; tri < ui.triangles.size(); ++tri) {
+            const int source = m.sourceFace(SurfaceMesh::FaceHandle(ui.faceSource[tri]));
+            if (source < 0) continue;
+            if (std::size_t(source) >= byFace.size()) byFace.resize(std::size_t(source) + 1);
+            byFace[std::size_t(source)].push_back(std::uint32_t(tri));
+        }
+    }
+
+    const ElementArrays& el = mesh.elements;
+    light->cornerUvLayer.assign(el.size(), {glm::vec3(0.0f, 0.0f, -1.0f), glm::vec3(0.0f, 0.0f, -1.0f), glm::vec3(0.0f, 0.0f, -1.0f)});
+    light->scale.assign(el.size(), glm::vec3(0.0f));
+    std::vector<std::uint8_t> outcome(el.size(), 0);  // 1 mapped; lit but flat: 2 no UV triangle, 3 texels disagree
+    tbb::parallel_for(std::size_t(0), el.size(), [&](std::size_t e) {
+        const glm::dvec3 targetOverPi = e < elementOverPi.size() ? elementOverPi[e] : glm::dvec3(0.0);
+        if (!(channelSum(targetOverPi) > 0.0)) return;  // no such light reaches it: nothing to place
+        outcome[e] = 2;
+        const std::size_t inst = el.instance[e];
+        if (el.backSide[e] || inst >= trianglesOfFace.size() || atlas.instances[inst].atlas < 0) return;
+        const auto& byFace = trianglesOfFace[inst];
+        if (el.sourceFace[e] >= byFace.size()) return;
+        const UnwrappedInstance& ui = atlas.instances[inst];
+        const SurfaceMesh& m = scene.instances[inst].mesh;
+        // The source face's unwrapped triangle that holds the element's centroid best.
+        double bestInside = -std::numeric_limits<double>::infinity();
+        glm::dvec3 bestP[3];
+        glm::dvec2 bestUv[3];
+        for (const std::uint32_t tri : byFace[el.sourceFace[e]]) {
+            glm::dvec3 p[3];
+            for (int j = 0; j < 3; ++j) {
+                const auto& q = m.point(SurfaceMesh::VertexHandle(ui.vertexSource[ui.triangles[tri][std::size_t(j)]]));
+                p[j] = {q[0], q[1], q[2]};
+            }
+            glm::dvec3 b;
+            if (!barycentric(p, el.centroid[e], b)) continue;
+            const double inside = std::min({b.x, b.y, b.z});
+            if (inside > bestInside) {
+                bestInside = inside;
+                for (int j = 0; j < 3; ++j) {
+                    bestP[j] = p[j];
+                    bestUv[j] = glm::dvec2(ui.uv[ui.triangles[tri][std::size_t(j)]]);
+                }
+            }
+        }
+        if (!(bestInside > -1e-3)) return;
+        const auto layer = std::size_t(ui.atlas);
+        const double atlasTexels = double(texels[layer].size);
+        glm::dvec2 texelCoord[3];
+        for (int c = 0; c < 3; ++c) {
+            glm::dvec3 b;
+            if (!barycentric(bestP, el.vertices[el.triangles[e][std::size_t(c)]], b)) return;
+            texelCoord[c] = atlasTexels * (b.x * bestUv[0] + b.y * bestUv[1] + b.z * bestUv[2]);
+        }
+        const glm::dvec3 mean = meanOverTriangle(light->layers[layer], size, texelCoord);
+        const double ratio = channelSum(targetOverPi) / std::max(channelSum(mean), 1e-300);
+        outcome[e] = 3;
+        if (normalise && !(ratio <= kMaxNormalisation && ratio >= 1.0 / kMaxNormalisation)) return;
+        const glm::dvec3 rho(el.reflectance[e]);
+        glm::dvec3 scale = rho;
+        if (normalise)
+            for (int c = 0; c < 3; ++c) scale[c] = mean[c] > 0.0 ? rho[c] * targetOverPi[c] / mean[c] : 0.0;
+        for (int c = 0; c < 3; ++c)
+            light->cornerUvLayer[e][std::size_t(c)] = glm::vec3(glm::vec2(texelCoord[c] / double(size)), float(layer));
+        light->scale[e] = glm::vec3(scale);
+        gatherRadiance[e] = glm::vec3(glm::max(glm::dvec3(gatherRadiance[e]) - rho * targetOverPi, glm::dvec3(0.0)));
+        outcome[e] = 1;
+    });
+    for (const std::uint8_t o : outcome) {
+        stats.elementsMapped += o == 1;
+        stats.elementsNoUv += o == 2;
+        stats.elementsDisagree += o == 3;
+    }
+    stats.seconds = clock.seconds();
+    return light;
+}
+
+}  // namespace hemibake
