@@ -5,6 +5,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include "baker/lightmap/lightmap_baker.h"
 #include "baker/util/colour.h"
 #include "baker/util/stopwatch.h"
 
@@ -15,35 +16,6 @@ namespace {
 // An element's share may differ from the texels' mean over it by this factor before the element stays flat: beyond
 // it the texels do not describe the element (it lies in a shadow the texel centres miss, or off its chart).
 constexpr double kMaxNormalisation = 2.0;
-
-// Empty texels next to filled ones take the mean of their filled 8-neighbours, `rings` deep, so bilinear lookups at
-// a chart's edge do not blend in black padding.
-void dilateLayer(std::vector<glm::vec3>& image, std::vector<std::uint8_t>& filled, int size, int rings) {
-    for (int ring = 0; ring < rings; ++ring) {
-        std::vector<std::pair<std::size_t, glm::vec3>> fills;
-        for (int y = 0; y < size; ++y)
-            for (int x = 0; x < size; ++x) {
-                const std::size_t i = std::size_t(y) * std::size_t(size) + std::size_t(x);
-                if (filled[i]) continue;
-                glm::vec3 sum(0.0f);
-                int count = 0;
-                for (int dy = -1; dy <= 1; ++dy)
-                    for (int dx = -1; dx <= 1; ++dx) {
-                        const int nx = x + dx, ny = y + dy;
-                        if (nx < 0 || ny < 0 || nx >= size || ny >= size) continue;
-                        const std::size_t j = std::size_t(ny) * std::size_t(size) + std::size_t(nx);
-                        if (!filled[j]) continue;
-                        sum += image[j];
-                        ++count;
-                    }
-                if (count) fills.emplace_back(i, sum / float(count));
-            }
-        for (const auto& [i, v] : fills) {
-            image[i] = v;
-            filled[i] = 1;
-        }
-    }
-}
 
 // Bilinear lookup as the GPU does it (texel centres at (i + ½)/S, clamped at the image's edge).
 glm::dvec3 bilinear(const std::vector<glm::vec3>& image, int size, glm::dvec2 texelCoord) {
@@ -83,6 +55,21 @@ glm::dvec3 meanOverTriangle(const std::vector<glm::vec3>& image, int size, const
     return sum / double(k * k);
 }
 
+// Does the UV triangle (texel coordinates) cover a flagged texel? Tested at the centroids of its k² sub-triangles.
+bool coversFlagged(const std::vector<std::uint8_t>& grid, int size, const glm::dvec2 t[3]) {
+    const double areaTexels = 0.5 * std::abs((t[1].x - t[0].x) * (t[2].y - t[0].y) - (t[2].x - t[0].x) * (t[1].y - t[0].y));
+    const int k = std::clamp(int(std::ceil(2.0 * std::sqrt(areaTexels))), 2, 48);
+    auto flagged = [&](double a, double b) {
+        const glm::dvec2 q = (1.0 - a - b) * t[0] + a * t[1] + b * t[2];
+        const int x = std::clamp(int(std::floor(q.x)), 0, size - 1), y = std::clamp(int(std::floor(q.y)), 0, size - 1);
+        return grid[std::size_t(y) * std::size_t(size) + std::size_t(x)] != 0;
+    };
+    for (int i = 0; i < k; ++i)
+        for (int j = 0; i + j < k; ++j)
+            if (flagged((i + 1.0 / 3.0) / k, (j + 1.0 / 3.0) / k)) return true;
+    return false;
+}
+
 }  // namespace
 
 std::shared_ptr<TexelLight> makeTexelLight(const Scene& scene, const PatchMesh& mesh, const UvAtlas& atlas,
@@ -90,23 +77,35 @@ std::shared_ptr<TexelLight> makeTexelLight(const Scene& scene, const PatchMesh& 
                                            const std::vector<std::vector<glm::dvec3>>& texelOverPi,
                                            const std::vector<glm::dvec3>& elementOverPi,
                                            std::vector<glm::vec3>& gatherRadiance, TexelLightStats& stats,
-                                           bool normalise) {
+                                           const std::vector<std::vector<std::uint8_t>>* unscaledTexels) {
     const Stopwatch clock;
     auto light = std::make_shared<TexelLight>();
     for (const AtlasTexels& t : texels) light->atlasSize = std::max(light->atlasSize, t.size);
     const int size = light->atlasSize;
     const auto pixels = std::size_t(size) * std::size_t(size);
-    light->layers.assign(texels.size(), std::vector<glm::vec3>(pixels, glm::vec3(0.0f)));
+    light->layers.resize(texels.size());
     tbb::parallel_for(std::size_t(0), texels.size(), [&](std::size_t a) {
+        // Padding around the charts is filled, so bilinear lookups at a chart's edge do not blend in black.
         const AtlasTexels& t = texels[a];
-        std::vector<std::uint8_t> filled(pixels, 0);
+        LightmapImage layer;
+        layer.resize(size);
         for (std::size_t i = 0; i < t.count(); ++i) {
-            const std::size_t px = std::size_t(t.y[i]) * std::size_t(size) + t.x[i];
-            light->layers[a][px] = glm::vec3(texelOverPi[a][i]);
-            filled[px] = 1;
+            const std::size_t px = layer.index(t.x[i], t.y[i]);
+            layer.irradianceOverPi[px] = glm::vec3(texelOverPi[a][i]);
+            layer.state[px] = TexelState::Covered;
         }
-        dilateLayer(light->layers[a], filled, size, 3);
+        dilate(layer, 3);
+        light->layers[a] = std::move(layer.irradianceOverPi);
     });
+
+    // The flagged texels on each layer's grid.
+    std::vector<std::vector<std::uint8_t>> unscaledGrid;
+    if (unscaledTexels) {
+        unscaledGrid.assign(texels.size(), std::vector<std::uint8_t>(pixels, 0));
+        for (std::size_t a = 0; a < texels.size(); ++a)
+            for (std::size_t i = 0; i < texels[a].count(); ++i)
+                if ((*unscaledTexels)[a][i]) unscaledGrid[a][std::size_t(texels[a].y[i]) * std::size_t(size) + texels[a].x[i]] = 1;
+    }
 
     // Unwrapped triangles by (instance, source face): an element lies in one of its source face's triangles.
     std::vector<std::vector<std::vector<std::uint32_t>>> trianglesOfFace(scene.instances.size());
@@ -167,9 +166,10 @@ std::shared_ptr<TexelLight> makeTexelLight(const Scene& scene, const PatchMesh& 
             texelCoord[c] = atlasTexels * (b.x * bestUv[0] + b.y * bestUv[1] + b.z * bestUv[2]);
         }
         const glm::dvec3 mean = meanOverTriangle(light->layers[layer], size, texelCoord);
+        const bool normalise = unscaledGrid.empty() || !coversFlagged(unscaledGrid[layer], size, texelCoord);
         const double ratio = channelSum(targetOverPi) / std::max(channelSum(mean), 1e-300);
         outcome[e] = 3;
-        if (normalise && !(ratio <= kMaxNormalisation && ratio >= 1.0 / kMaxNormalisation)) return;
+        if (normalise ? !(ratio <= kMaxNormalisation && ratio >= 1.0 / kMaxNormalisation) : !(channelSum(mean) > 0.0)) return;
         const glm::dvec3 rho(el.reflectance[e]);
         glm::dvec3 scale = rho;
         if (normalise)

@@ -34,15 +34,15 @@ struct TexelLightStats {
 
 // The gather's TexelLight from light per texel (`texelOverPi[a][i]`, E/π of texel i of atlas a) and the same light
 // per element (`elementOverPi`, E/π as the solve has it). Lowers `gatherRadiance` (per element, W·m⁻²·sr⁻¹) by
-// ρ·E/π wherever the texels take that light over. With `normalise` (the default, see above) each element's texels
-// are scaled to its own value; without, they are shown as they are (more right than the element, e.g. after a
-// gather pass), still only on elements that have that light. Back sides of double-sided surfaces (no texels) and elements
+// ρ·E/π wherever the texels take that light over. Each element's texels are scaled to its own value (see above),
+// except on elements that cover a texel flagged in `unscaledTexels` (per atlas, per texel; e.g. texels gathered
+// again across a gap, more right than the elements there): those show the texels as they are. Back sides of double-sided surfaces (no texels) and elements
 // without that light stay flat. Thread-safe for distinct outputs; uses every core.
 std::shared_ptr<TexelLight> makeTexelLight(const Scene& scene, const PatchMesh& mesh, const UvAtlas& atlas,
                                            const std::vector<AtlasTexels>& texels,
                                            const std::vector<std::vector<glm::dvec3>>& texelOverPi,
                                            const std::vector<glm::dvec3>& elementOverPi,
                                            std::vector<glm::vec3>& gatherRadiance, TexelLightStats& stats,
-                                           bool normalise = true);
+                                           const std::vector<std::vector<std::uint8_t>>* unscaledTexels = nullptr);
 
 }  // namespace hemibake

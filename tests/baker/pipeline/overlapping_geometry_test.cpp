@@ -179,9 +179,9 @@ struct PanelRoom {
     double panelTopBaked = 0.0, panelTopTraced = 0.0;  // and over the panel's top, 5 cm under the ceiling
 };
 
-// `texelGather`: the final gather sees direct light per texel and re-gathers the gap (the default); else it sees
-// the elements' averages only.
-PanelRoom bakePanelRoom(double unevenShotSpread, int directStepLevels, bool texelGather = true) {
+// `texelDirect`: the final gather sees direct light per texel (the default), else the elements' averages only;
+// `gapPasses`: re-gathers of the gap's texels (experimental, off by default).
+PanelRoom bakePanelRoom(double unevenShotSpread, int directStepLevels, bool texelDirect = true, int gapPasses = 0) {
     SceneBuilder b("hanging panel");
     const int grey = b.addMaterial(glm::vec3(0.7f));
     const int lamp = b.addMaterial(glm::vec3(0.8f), glm::vec3(12.0f));
@@ -200,8 +200,8 @@ PanelRoom bakePanelRoom(double unevenShotSpread, int directStepLevels, bool texe
     settings.solve.solver.unevenShotSpread = unevenShotSpread;
     settings.solve.directSteps.levels = directStepLevels;
     settings.lightmap.texelsPerUnit = 8.0;
-    settings.lightmap.gatherTexelDirect = texelGather;
-    if (!texelGather) settings.lightmap.gapPasses = 0;
+    settings.lightmap.gatherTexelDirect = texelDirect;
+    settings.lightmap.gapPasses = gapPasses;
     const BakeResult r = bakeScene(scene, settings, BakeOutput{});
 
     std::vector<SurfacePoint> table, floor, panelTop;
@@ -236,9 +236,9 @@ PanelRoom bakePanelRoom(double unevenShotSpread, int directStepLevels, bool texe
     means(table, tableBaked, room.tableBaked, room.tableTraced);
     means(floor, floorBaked, room.floorBaked, room.floorTraced);
     means(panelTop, panelTopBaked, room.panelTopBaked, room.panelTopTraced);
-    std::printf("hanging panel, unevenShotSpread %.2f, %d direct-step levels, texel gather %d: table top %.4f (path tracer %.4f, "
+    std::printf("hanging panel, unevenShotSpread %.2f, %d direct-step levels, texel direct %d, %d gap passes: table top %.4f (path tracer %.4f, "
                 "%+.2f %%), floor %.4f (%.4f, %+.2f %%), panel top %.4f (%.4f, %+.2f %%)\n",
-                unevenShotSpread, directStepLevels, int(texelGather), room.tableBaked, room.tableTraced,
+                unevenShotSpread, directStepLevels, int(texelDirect), gapPasses, room.tableBaked, room.tableTraced,
                 100.0 * (room.tableBaked / room.tableTraced - 1.0), room.floorBaked, room.floorTraced,
                 100.0 * (room.floorBaked / room.floorTraced - 1.0), room.panelTopBaked, room.panelTopTraced,
                 100.0 * (room.panelTopBaked / room.panelTopTraced - 1.0));
@@ -256,20 +256,22 @@ TEST(HangingPanel, LightFromTheGapStaysInTheGap) {
     EXPECT_NEAR(r.panelTopBaked / r.panelTopTraced, 1.0, 0.07);
 }
 
-// As the presets bake it (uneven shots, no direct steps: elements stay 1.6 m), the panel's top sees the hot spot
-// above it and the light trapped in the gap, because the final gather reads the ceiling's direct light per texel
-// and re-gathers the gap's texels until they settle (measured −5.4 %; the texels are 12.5 cm across a 5 cm gap).
-TEST(HangingPanel, PanelTopSeesTheHotSpotPerTexel) {
-    const PanelRoom r = bakePanelRoom(SolverSettings{}.unevenShotSpread, 0);
-    EXPECT_NEAR(r.panelTopBaked / r.panelTopTraced, 1.0, 0.07);
+// The panel's top looks at the ceiling 5 cm above it. As the presets bake it (uneven shots, no direct steps:
+// elements stay 1.6 m) the final gather reads the ceiling's direct light per texel, so the top sees the hot spot
+// its own light makes there; through the elements' averages it is spread over 1.6 m. Measured: −27 % per texel,
+// −44 % through the averages (what remains is the light trapped in the gap, which the elements let escape).
+TEST(HangingPanel, PanelTopSeesTheDirectHotSpotPerTexel) {
+    const PanelRoom perTexel = bakePanelRoom(SolverSettings{}.unevenShotSpread, 0);
+    const PanelRoom averaged = bakePanelRoom(SolverSettings{}.unevenShotSpread, 0, false);
+    EXPECT_LT(averaged.panelTopBaked / averaged.panelTopTraced, 0.7);
+    EXPECT_GT(perTexel.panelTopBaked / perTexel.panelTopTraced, averaged.panelTopBaked / averaged.panelTopTraced + 0.1);
 }
 
-// The same bake with the final gather seeing only the elements: the hot spot is spread over a 1.6 m element, the
-// light the gap traps escapes, and the panel's top comes out far too dark (measured −44 %; per-texel direct light
-// alone: −27 %).
-TEST(HangingPanel, ThroughElementAveragesThePanelTopIsTooDark) {
-    const PanelRoom r = bakePanelRoom(SolverSettings{}.unevenShotSpread, 0, false);
-    EXPECT_LT(r.panelTopBaked / r.panelTopTraced, 0.7);
+// Re-gathering the gap's texels until they settle (experimental, --gap-passes) brings the trapped light back at
+// 8 texels/m: measured −6.2 % (the texels are 12.5 cm across a 5 cm gap; at 4 texels/m only −24 % → −20 %).
+TEST(HangingPanel, GapPassesBringTheTrappedLightBack) {
+    const PanelRoom r = bakePanelRoom(SolverSettings{}.unevenShotSpread, 0, true, 16);
+    EXPECT_NEAR(r.panelTopBaked / r.panelTopTraced, 1.0, 0.07);
 }
 
 // Without both (coarse elements, every patch shooting from its centre or area-weighted points): +16 % and +24 %.
