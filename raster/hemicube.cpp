@@ -254,6 +254,8 @@ void HemicubeRenderer::draw(const HemicubeFrame& frame, Target target, glm::vec3
         }
         faces[face].drawCount = drawFirsts_.size() - faces[face].firstDraw;
     }
+    ++drawTotals_.hemicubes;
+    for (const GLsizei count : drawCounts_) drawTotals_.triangles += std::uint64_t(count) / 3;
     for (int face = 0; face < HemicubeWeights::kFaceCount; ++face) {
         if (faces[face].drawCount == 0) continue;
         gl.UniformMatrix3fv(uniforms.faceRows, 1, GL_TRUE, faces[face].rows);

@@ -49,6 +49,17 @@ struct FormFactorList {
     void clear();
 };
 
+// What a renderer drew, summed over its renders: for reports and culling benchmarks.
+struct HemicubeDrawTotals {
+    std::uint64_t hemicubes = 0;  // renders (item or radiance)
+    std::uint64_t triangles = 0;  // triangles submitted, summed over the five faces
+    HemicubeDrawTotals& operator+=(const HemicubeDrawTotals& o) {
+        hemicubes += o.hemicubes;
+        triangles += o.triangles;
+        return *this;
+    }
+};
+
 struct RadianceGather {
     glm::dvec3 irradianceOverPi{0.0};  // E/π = Σ w·L, W·m⁻²·sr⁻¹
     double skyFraction = 0.0;
@@ -91,6 +102,8 @@ public:
     double nearPlaneM() const { return nearPlaneM_; }
     // Chunks drawn (summed over faces) by the last render: for benchmarks and culling tests.
     std::size_t lastChunksDrawn() const { return lastChunksDrawn_; }
+    // Every render since construction. Not thread-safe against a render on this renderer.
+    const HemicubeDrawTotals& drawTotals() const { return drawTotals_; }
 
 private:
     enum class Target { Items, Radiance };
@@ -122,6 +135,7 @@ private:
     std::vector<GLsizei> drawCounts_;
     std::vector<std::uint8_t> chunkAboveHorizon_;
     std::size_t lastChunksDrawn_ = 0;
+    HemicubeDrawTotals drawTotals_;
 };
 
 }  // namespace hemibake

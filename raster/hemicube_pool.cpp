@@ -34,6 +34,13 @@ HemicubeRenderer& HemicubePool::local() {
     return worker->renderer;
 }
 
+HemicubeDrawTotals HemicubePool::drawTotals() const {
+    HemicubeDrawTotals total;
+    for (const std::unique_ptr<Worker>& worker : workers_)
+        if (worker) total += worker->renderer.drawTotals();
+    return total;
+}
+
 void HemicubePool::setTexelLight(std::shared_ptr<const TexelLight> light) {
     texelLight_ = std::move(light);
     ++texelLightVersion_;

@@ -38,6 +38,9 @@ public:
     // radiance; same threading rule. `light` is kept by the pool; nullptr turns it off.
     void setTexelLight(std::shared_ptr<const TexelLight> light);
 
+    // What every worker's renderer drew so far. Must not be called while others render.
+    HemicubeDrawTotals drawTotals() const;
+
     std::size_t workerCount() const { return workers_.size(); }
     int resolution() const { return resolution_; }
 

@@ -121,6 +121,17 @@ nlohmann::json BakeReport::toJson() const {
                        {"directSteps", {{"regions", refinement.directSteps.regions},
                                         {"levels", refinement.directSteps.levels},
                                         {"smallestSizeM", refinement.directSteps.smallestSizeM}}}};
+    auto draws = [&](const HemicubeDrawTotals& d) {
+        const double mean = d.hemicubes ? double(d.triangles) / double(d.hemicubes) : 0.0;
+        return nlohmann::json{{"hemicubes", d.hemicubes},
+                              {"meanTrianglesDrawn", mean},
+                              {"meanFractionOfScene",
+                               hemicubeDraws.sceneTriangles ? mean / double(hemicubeDraws.sceneTriangles) : 0.0}};
+    };
+    j["hemicubeDraws"] = {{"sceneTriangles", hemicubeDraws.sceneTriangles},
+                          {"definition", "triangles submitted per hemicube, summed over its five faces, after culling"},
+                          {"solve", draws(hemicubeDraws.solve)},
+                          {"finalGather", draws(hemicubeDraws.finalGather)}};
     if (lightmap) j["lightmap"] = lightmapJson(*lightmap);
     j["primitives"] = nlohmann::json::array();
     for (const BakedPrimitive& p : primitives)

@@ -17,6 +17,7 @@
 #include "baker/solve/room_scale.h"
 #include "baker/solve/radiosity_solver.h"
 #include "baker/solve/separate_sides.h"
+#include "raster/hemicube.h"
 
 namespace hemibake {
 
@@ -29,6 +30,14 @@ struct RefinementReport {
     std::size_t elementsBefore = 0, elementsAfter = 0, regions = 0;  // adaptive refinement
     RoomScaleReport roomScale;                                        // before it: elements that follow the rooms
     DirectStepReport directSteps;                                     // and where direct light steps
+};
+
+// Triangles the hemicubes drew (summed over their five faces), against the triangles a hemicube could draw: how
+// much the culling leaves llvmpipe to do.
+struct HemicubeDrawReport {
+    std::size_t sceneTriangles = 0;  // element triangles uploaded (each hemicube face could draw them all)
+    HemicubeDrawTotals solve;        // the final solve's shots and gather sweeps
+    HemicubeDrawTotals finalGather;  // the lightmap texels' gathers
 };
 
 struct LightmapReport {
@@ -75,6 +84,7 @@ struct BakeReport {
     ExposedAreaReport exposedArea;
     SideSeparationReport sides;
     RefinementReport refinement;
+    HemicubeDrawReport hemicubeDraws;
     std::optional<LightmapReport> lightmap;
     std::vector<BakedPrimitive> primitives;
     std::optional<ProbesReport> probes;

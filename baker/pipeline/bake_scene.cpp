@@ -18,6 +18,7 @@
 #include "baker/util/atomic_output.h"
 #include "baker/util/rgb_image.h"
 #include "baker/util/stopwatch.h"
+#include "raster/hemicube_pool.h"
 
 namespace hemibake {
 
@@ -109,6 +110,8 @@ private:
         report.solve = solved.report;
         report.patches = solved.mesh.patches.size();
         report.elements = solved.mesh.elements.size();
+        report.hemicubeDraws.sceneTriangles = solved.mesh.elements.size();
+        if (solved.pool) report.hemicubeDraws.solve = solved.pool->drawTotals();
         report.solidCuts = solved.mesh.solidCuts;
         report.exposedArea = solved.exposedArea;
         report.sides = solved.sides;
@@ -156,6 +159,12 @@ private:
                                               update("lightmaps: " + std::to_string(doneTexels) + " / " +
                                                      std::to_string(total) + " texels");
                                           });
+        if (result_.solved->pool) {
+            HemicubeDrawTotals gather = result_.solved->pool->drawTotals();
+            gather.hemicubes -= result_.report.hemicubeDraws.solve.hemicubes;
+            gather.triangles -= result_.report.hemicubeDraws.solve.triangles;
+            result_.report.hemicubeDraws.finalGather = gather;
+        }
         for (LightmapImage& image : result_.lightmaps) lm.stats.dilated += dilate(image, s.lightmap.dilationTexels);
         lm.seams = stitchSeams(scene_, result_.atlas, result_.lightmaps, s.lightmap.stitchSeams);
         stage("lightmaps");

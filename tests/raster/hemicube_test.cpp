@@ -308,6 +308,10 @@ TEST(Hemicube, ChunksOutsideTheHemicubeAreNotDrawn) {
     for (std::uint32_t e : list.elements) ASSERT_GE(mesh.elements.centroid[e].x, 96.0 - 1.0);
     EXPECT_GT(renderer.lastChunksDrawn(), 0u);
     EXPECT_LE(renderer.lastChunksDrawn(), 2 * (chunkCount / 4 + 2));
+    // The totals (bake.json hemicubeDraws) count both renders and, in triangles, exactly the chunks drawn: none by
+    // the first, 128 per chunk by the second.
+    EXPECT_EQ(renderer.drawTotals().hemicubes, 2u);
+    EXPECT_EQ(renderer.drawTotals().triangles, 128u * renderer.lastChunksDrawn());
 }
 
 TEST(Hemicube, ItemIdsNameTheElementEachPixelSees) {
