@@ -333,13 +333,10 @@ public:
                 radiance[e] = solved.solution.gatherRadiance(solved.mesh, e, areaLights_ != nullptr);
             std::shared_ptr<TexelLight> light;
             if (settings.gatherTexelDirect && direct_ && !texels.empty()) {
-                TexelLightStats ts;
                 std::vector<glm::dvec3> elementDirectOverPi(solved.solution.rayTracedIrradiance);
                 for (glm::dvec3& d : elementDirectOverPi) d /= M_PI;
-                light = makeTexelLight(scene, solved.mesh, atlas, texels, directValue_, elementDirectOverPi, radiance, ts);
-                stats.texelDirectElements = ts.elementsMapped;
-                stats.flatDirectElementsNoUv = ts.elementsNoUv;
-                stats.flatDirectElementsDisagree = ts.elementsDisagree;
+                light = makeTexelLight(scene, solved.mesh, atlas, texels, directValue_, elementDirectOverPi, radiance,
+                                       stats.texelDirect);
             }
             solved.pool->setTexelLight(std::move(light));
             gatherer_.setElementRadiance(radiance);

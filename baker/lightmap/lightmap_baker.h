@@ -8,6 +8,7 @@
 
 #include "baker/lightmap/lightmap.h"
 #include "baker/lightmap/lightmap_settings.h"
+#include "baker/lightmap/texel_light.h"
 #include "baker/solve/radiosity_solution.h"
 #include "baker/solve/solve_settings.h"
 #include "mesh/patches.h"
@@ -26,12 +27,10 @@ struct LightmapStats {
     std::size_t interpolated = 0;  // texels interpolated from agreeing lattice neighbours
     std::size_t invalid = 0;       // texels inside geometry (mostly back faces seen), refilled from neighbours
     std::size_t dilated = 0;       // padding texels filled (by dilate(), before seam stitching)
-    std::size_t texelDirectElements = 0;  // elements whose direct light the gathers see per texel
+    TexelLightStats texelDirect;  // how the final gathers see direct light per texel (texel_light.h)
     std::size_t gapTexels = 0;   // texels re-gathered across gaps narrower than elements (refineGaps)
     int gapPasses = 0;
     double gapLastChange = 0.0;  // what the last gap pass changed, relative to the gap texels' light
-    std::size_t flatDirectElementsNoUv = 0;      // lit elements the gathers see flat: no texels (back sides)
-    std::size_t flatDirectElementsDisagree = 0;  // and those the texels did not describe
     double renderedFraction() const { return texels ? double(rendered) / double(texels) : 0.0; }
 };
 

@@ -2,12 +2,15 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <tbb/parallel_for.h>
 
+#include "baker/lightmap/element_interpolation.h"
 #include "baker/lightmap/lightmap_baker.h"
 #include "baker/util/colour.h"
 #include "baker/util/stopwatch.h"
+#include "mesh/triangle_sampling.h"
 
 namespace hemibake {
 
@@ -28,46 +31,27 @@ glm::dvec3 bilinear(const std::vector<glm::vec3>& image, int size, glm::dvec2 te
     return (1.0 - fy) * ((1.0 - fx) * at(x0, y0) + fx * at(x1, y0)) + fy * ((1.0 - fx) * at(x0, y1) + fx * at(x1, y1));
 }
 
-// Barycentric weights of q's projection onto the plane of triangle p (false for a degenerate triangle).
-bool barycentric(const glm::dvec3 p[3], const glm::dvec3& q, glm::dvec3& b) {
-    const glm::dvec3 v0 = p[1] - p[0], v1 = p[2] - p[0], v2 = q - p[0];
-    const double d00 = glm::dot(v0, v0), d01 = glm::dot(v0, v1), d11 = glm::dot(v1, v1);
-    const double d20 = glm::dot(v2, v0), d21 = glm::dot(v2, v1);
-    const double den = d00 * d11 - d01 * d01;
-    if (!(den > 1e-12 * d00 * d11) || !(den > 0.0)) return false;
-    b.y = (d11 * d20 - d01 * d21) / den;
-    b.z = (d00 * d21 - d01 * d20) / den;
-    b.x = 1.0 - b.y - b.z;
-    return true;
-}
-
-// Mean of the bilinear image over a UV triangle (texel coordinates), from the centroids of k² equal sub-triangles.
-glm::dvec3 meanOverTriangle(const std::vector<glm::vec3>& image, int size, const glm::dvec2 t[3]) {
+// Mean of the bilinear image over a UV triangle (texel coordinates), at the centroids of its k² equal sub-triangles,
+// and whether one of those points falls on a texel flagged in `grid` (if given).
+struct TriangleSamples {
+    glm::dvec3 mean{0.0};
+    bool coversFlagged = false;
+};
+TriangleSamples sampleTriangle(const std::vector<glm::vec3>& image, const std::vector<std::uint8_t>* grid, int size,
+                               const glm::dvec2 t[3]) {
     const double areaTexels = 0.5 * std::abs((t[1].x - t[0].x) * (t[2].y - t[0].y) - (t[2].x - t[0].x) * (t[1].y - t[0].y));
     const int k = std::clamp(int(std::ceil(2.0 * std::sqrt(areaTexels))), 2, 48);
-    glm::dvec3 sum(0.0);
-    auto at = [&](double a, double b) { return bilinear(image, size, (1.0 - a - b) * t[0] + a * t[1] + b * t[2]); };
-    for (int i = 0; i < k; ++i)
-        for (int j = 0; i + j < k; ++j) {
-            sum += at((i + 1.0 / 3.0) / k, (j + 1.0 / 3.0) / k);
-            if (i + j <= k - 2) sum += at((i + 2.0 / 3.0) / k, (j + 2.0 / 3.0) / k);
+    TriangleSamples s;
+    forEachSubTriangleCentroid(k, [&](double wa, double wb) {
+        const glm::dvec2 q = wa * t[0] + wb * t[1] + (1.0 - wa - wb) * t[2];
+        s.mean += bilinear(image, size, q);
+        if (grid && !s.coversFlagged) {
+            const int x = std::clamp(int(std::floor(q.x)), 0, size - 1), y = std::clamp(int(std::floor(q.y)), 0, size - 1);
+            s.coversFlagged = (*grid)[std::size_t(y) * std::size_t(size) + std::size_t(x)] != 0;
         }
-    return sum / double(k * k);
-}
-
-// Does the UV triangle (texel coordinates) cover a flagged texel? Tested at the centroids of its k² sub-triangles.
-bool coversFlagged(const std::vector<std::uint8_t>& grid, int size, const glm::dvec2 t[3]) {
-    const double areaTexels = 0.5 * std::abs((t[1].x - t[0].x) * (t[2].y - t[0].y) - (t[2].x - t[0].x) * (t[1].y - t[0].y));
-    const int k = std::clamp(int(std::ceil(2.0 * std::sqrt(areaTexels))), 2, 48);
-    auto flagged = [&](double a, double b) {
-        const glm::dvec2 q = (1.0 - a - b) * t[0] + a * t[1] + b * t[2];
-        const int x = std::clamp(int(std::floor(q.x)), 0, size - 1), y = std::clamp(int(std::floor(q.y)), 0, size - 1);
-        return grid[std::size_t(y) * std::size_t(size) + std::size_t(x)] != 0;
-    };
-    for (int i = 0; i < k; ++i)
-        for (int j = 0; i + j < k; ++j)
-            if (flagged((i + 1.0 / 3.0) / k, (j + 1.0 / 3.0) / k)) return true;
-    return false;
+    });
+    s.mean /= double(k * k);
+    return s;
 }
 
 }  // namespace
@@ -145,8 +129,8 @@ std::shared_ptr<TexelLight> makeTexelLight(const Scene& scene, const PatchMesh& 
                 const auto& q = m.point(SurfaceMesh::VertexHandle(ui.vertexSource[ui.triangles[tri][std::size_t(j)]]));
                 p[j] = {q[0], q[1], q[2]};
             }
-            glm::dvec3 b;
-            if (!barycentric(p, el.centroid[e], b)) continue;
+            if (!(glm::length(glm::cross(p[1] - p[0], p[2] - p[0])) > 0.0)) continue;  // degenerate: holds nothing
+            const glm::dvec3 b = barycentric(p[0], p[1], p[2], el.centroid[e]);
             const double inside = std::min({b.x, b.y, b.z});
             if (inside > bestInside) {
                 bestInside = inside;
@@ -161,12 +145,13 @@ std::shared_ptr<TexelLight> makeTexelLight(const Scene& scene, const PatchMesh& 
         const double atlasTexels = double(texels[layer].size);
         glm::dvec2 texelCoord[3];
         for (int c = 0; c < 3; ++c) {
-            glm::dvec3 b;
-            if (!barycentric(bestP, el.vertices[el.triangles[e][std::size_t(c)]], b)) return;
+            const glm::dvec3 b = barycentric(bestP[0], bestP[1], bestP[2], el.vertices[el.triangles[e][std::size_t(c)]]);
             texelCoord[c] = atlasTexels * (b.x * bestUv[0] + b.y * bestUv[1] + b.z * bestUv[2]);
         }
-        const glm::dvec3 mean = meanOverTriangle(light->layers[layer], size, texelCoord);
-        const bool normalise = unscaledGrid.empty() || !coversFlagged(unscaledGrid[layer], size, texelCoord);
+        const TriangleSamples samples =
+            sampleTriangle(light->layers[layer], unscaledGrid.empty() ? nullptr : &unscaledGrid[layer], size, texelCoord);
+        const glm::dvec3 mean = samples.mean;
+        const bool normalise = !samples.coversFlagged;
         const double ratio = channelSum(targetOverPi) / std::max(channelSum(mean), 1e-300);
         outcome[e] = 3;
         if (normalise ? !(ratio <= kMaxNormalisation && ratio >= 1.0 / kMaxNormalisation) : !(channelSum(mean) > 0.0)) return;
