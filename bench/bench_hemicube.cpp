@@ -18,6 +18,8 @@
 #include <memory>
 #include <random>
 
+#include "mesh/gltf_loader.h"
+#include "mesh/subdivision.h"
 #include "raster/hemicube_pool.h"
 
 namespace hemibake {
@@ -165,6 +167,60 @@ void runHemicubes(benchmark::State& state, Mode mode) {
 }
 
 void BM_ItemBuffer(benchmark::State& state) { runHemicubes(state, Mode::Items); }
+
+// examples/level_small.gltf at the default preset's sizes (7 rooms and corridors whose walls stand in the slabs):
+// what occlusion culling saves where rooms hide each other. One worker, so the numbers are per core.
+const PatchMesh& levelSmall() {
+    static const PatchMesh mesh = [] {
+        SubdivisionSettings settings;
+        settings.patchSizeM = 3.2;
+        settings.elementSizeM = 1.6;
+        return subdivide(loadGltf(std::string(HEMIBAKE_SOURCE_DIR) + "/examples/level_small.gltf"), settings);
+    }();
+    return mesh;
+}
+
+void BM_LevelHemicubes(benchmark::State& state) {
+    const bool occlusion = state.range(0) != 0;
+    const int resolution = static_cast<int>(state.range(1));
+    const bool gather = state.range(2) != 0;
+    const PatchMesh& mesh = levelSmall();
+    OcclusionCullingSettings culling;
+    culling.enabled = occlusion;
+    GlContext context;
+    SceneBuffers buffers(context, mesh);
+    buffers.setElementRadiance(std::vector<glm::vec3>(mesh.elements.size(), glm::vec3(1.0f)));
+    HemicubeRenderer renderer(buffers, resolution, culling);
+    const std::vector<HemicubeFrame> batchFrames = frames(mesh, 64);
+    FormFactorList list;
+    auto render = [&] {
+        for (const HemicubeFrame& frame : batchFrames) {
+            if (gather)
+                benchmark::DoNotOptimize(renderer.gatherIrradianceOverPi(frame, glm::vec3(0.5f)));
+            else
+                renderer.renderFormFactors(frame, list);
+        }
+    };
+    render();
+    const HemicubeDrawTotals before = renderer.drawTotals();
+    for (auto _ : state) render();
+    const HemicubeDrawTotals& after = renderer.drawTotals();
+    const double hemicubes = double(after.hemicubes - before.hemicubes);
+    state.SetItemsProcessed(static_cast<std::int64_t>(hemicubes));
+    state.counters["triangles"] = double(mesh.elements.size());
+    // Triangles sent to llvmpipe per hemicube (summed over the five faces, occluder pass included) / scene.
+    state.counters["drawn"] = double(after.triangles - before.triangles) /
+                              (hemicubes * double(mesh.elements.size()));
+    state.counters["occluders"] =
+        double(after.occluderTriangles - before.occluderTriangles) / (hemicubes * double(mesh.elements.size()));
+    state.counters["ms/hemicube"] = benchmark::Counter(hemicubes / 1e3, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+BENCHMARK(BM_LevelHemicubes)
+    ->ArgNames({"occlusion", "R", "gather"})
+    ->ArgsProduct({{0, 1}, {64, 128}, {0, 1}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->MinTime(2.0);
 void BM_RadianceGather(benchmark::State& state) { runHemicubes(state, Mode::Gather); }
 
 BENCHMARK(BM_ItemBuffer)

@@ -164,6 +164,11 @@ def write_markdown(results, path, png_name, quick):
     notes = os.path.join(ROOT, "bench", "tradeoff_notes.md")  # hand-written reading of the numbers
     if os.path.exists(notes):
         lines += [open(notes).read().rstrip()]
+    # bench/levels.py keeps its own section in this file: carry it over.
+    old = open(path).read() if os.path.exists(path) else ""
+    begin = old.find("<!-- bench/levels.py")
+    if begin >= 0:
+        lines += ["", old[begin:].rstrip()]
     with open(path, "w") as f:
         f.write("\n".join(lines) + "\n")
 

@@ -18,6 +18,7 @@
 
 #include "raster/hemicube_reduction.h"
 #include "raster/hemicube_weights.h"
+#include "raster/occlusion_culling.h"
 #include "raster/scene_buffers.h"
 
 namespace hemibake {
@@ -52,10 +53,21 @@ struct FormFactorList {
 // What a renderer drew, summed over its renders: for reports and culling benchmarks.
 struct HemicubeDrawTotals {
     std::uint64_t hemicubes = 0;  // renders (item or radiance)
-    std::uint64_t triangles = 0;  // triangles submitted, summed over the five faces
+    std::uint64_t triangles = 0;  // triangles submitted, summed over the five faces (occluder pass included)
+    std::uint64_t occluderTriangles = 0;  // of those, drawn in occlusion culling's depth pass
+    std::uint64_t occlusionCulledHemicubes = 0;  // renders that ran occlusion culling
     HemicubeDrawTotals& operator+=(const HemicubeDrawTotals& o) {
         hemicubes += o.hemicubes;
         triangles += o.triangles;
+        occluderTriangles += o.occluderTriangles;
+        occlusionCulledHemicubes += o.occlusionCulledHemicubes;
+        return *this;
+    }
+    HemicubeDrawTotals& operator-=(const HemicubeDrawTotals& o) {
+        hemicubes -= o.hemicubes;
+        triangles -= o.triangles;
+        occluderTriangles -= o.occluderTriangles;
+        occlusionCulledHemicubes -= o.occlusionCulledHemicubes;
         return *this;
     }
 };
@@ -80,7 +92,7 @@ public:
     static constexpr double kNearPlanePerEyeOffset = 0.5;
 
     // `scene` (and its context) must outlive the renderer. Binds the context while creating GL objects.
-    HemicubeRenderer(const SceneBuffers& scene, int resolution);
+    HemicubeRenderer(const SceneBuffers& scene, int resolution, const OcclusionCullingSettings& occlusion = {});
     HemicubeRenderer(const HemicubeRenderer&) = delete;
     HemicubeRenderer& operator=(const HemicubeRenderer&) = delete;
 
@@ -100,6 +112,9 @@ public:
     const SceneBuffers& scene() const { return *scene_; }
     double eyeOffsetM() const { return eyeOffsetM_; }
     double nearPlaneM() const { return nearPlaneM_; }
+    // Culling changes what is drawn, never what is seen (ids and gathers are identical with it off).
+    void setOcclusionCulling(const OcclusionCullingSettings& settings) { occlusion_ = settings; }
+    const OcclusionCullingSettings& occlusionCulling() const { return occlusion_; }
     // Chunks drawn (summed over faces) by the last render: for benchmarks and culling tests.
     std::size_t lastChunksDrawn() const { return lastChunksDrawn_; }
     // Every render since construction. Not thread-safe against a render on this renderer.
@@ -108,6 +123,13 @@ public:
 private:
     enum class Target { Items, Radiance };
     void draw(const HemicubeFrame& frame, Target target, glm::vec3 skyRadiance);
+    // Draws the occluders depth-only and clears the face bits of chunks hidden behind them (occlusion_culling.h).
+    void cullOccludedChunks(const glm::vec3& eye, const FaceProjection (&faces)[HemicubeWeights::kFaceCount]);
+    struct Uniforms;
+    // One multi-draw of the chunks `keep(c)` accepts on `face` (runs merged); adds their triangles to
+    // `triangles`; returns how many chunks.
+    template <class Keep>
+    std::size_t drawChunks(const FaceProjection& face, const Uniforms& uniforms, Keep keep, std::uint64_t& triangles);
     void readRadiance();
 
     const SceneBuffers* scene_;
@@ -131,9 +153,13 @@ private:
     std::vector<float> depths_;
     std::vector<glm::vec4> radiance_;
     std::vector<double> accumulator_;  // per element, zero between renders
-    std::vector<GLint> drawFirsts_;  // all five faces' multi-draw ranges, face by face
+    std::vector<GLint> drawFirsts_;  // one face's multi-draw ranges
     std::vector<GLsizei> drawCounts_;
-    std::vector<std::uint8_t> chunkAboveHorizon_;
+    std::vector<std::uint8_t> chunkFaces_;  // per chunk, bit f: drawn on face f
+    OcclusionCullingSettings occlusion_;
+    DepthPyramid depthPyramid_;
+    std::vector<std::pair<float, std::uint32_t>> occluderCandidates_;  // (−area / squared distance, chunk)
+    std::vector<std::uint8_t> chunkIsOccluder_;
     std::size_t lastChunksDrawn_ = 0;
     HemicubeDrawTotals drawTotals_;
 };

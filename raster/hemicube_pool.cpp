@@ -6,10 +6,11 @@
 
 namespace hemibake {
 
-HemicubePool::Worker::Worker(const PatchMesh& mesh, int resolution)
-    : context(), buffers(context, mesh), renderer(buffers, resolution) {}
+HemicubePool::Worker::Worker(const PatchMesh& mesh, int resolution, const OcclusionCullingSettings& occlusion)
+    : context(), buffers(context, mesh), renderer(buffers, resolution, occlusion) {}
 
-HemicubePool::HemicubePool(const PatchMesh& mesh, int resolution) : mesh_(&mesh), resolution_(resolution) {
+HemicubePool::HemicubePool(const PatchMesh& mesh, int resolution, const OcclusionCullingSettings& occlusion)
+    : mesh_(&mesh), resolution_(resolution), occlusion_(occlusion) {
     // Reject a bad resolution here rather than on the first worker thread.
     if (resolution < 2 || resolution % 2 != 0)
         throw std::invalid_argument("HemicubePool: resolution must be even and >= 2, got " + std::to_string(resolution));
@@ -19,7 +20,7 @@ HemicubePool::~HemicubePool() = default;
 
 HemicubeRenderer& HemicubePool::local() {
     std::unique_ptr<Worker>& worker = workers_.local();
-    if (!worker) worker = std::make_unique<Worker>(*mesh_, resolution_);
+    if (!worker) worker = std::make_unique<Worker>(*mesh_, resolution_, occlusion_);
     if (worker->radianceVersion != radianceVersion_) {
         worker->buffers.setElementRadiance(radiance_);
         worker->radianceVersion = radianceVersion_;

@@ -21,8 +21,9 @@ namespace hemibake {
 
 class HemicubePool {
 public:
-    // `mesh` must outlive the pool: each worker uploads it when it first asks for its renderer.
-    HemicubePool(const PatchMesh& mesh, int resolution);
+    // `mesh` must outlive the pool: each worker uploads it when it first asks for its renderer. Every renderer
+    // culls with `occlusion` (which changes the cost, never the result).
+    HemicubePool(const PatchMesh& mesh, int resolution, const OcclusionCullingSettings& occlusion = {});
     ~HemicubePool();
     HemicubePool(const HemicubePool&) = delete;
     HemicubePool& operator=(const HemicubePool&) = delete;
@@ -51,11 +52,12 @@ private:
         HemicubeRenderer renderer;
         std::uint64_t radianceVersion = 0;
         std::uint64_t texelLightVersion = 0;
-        Worker(const PatchMesh& mesh, int resolution);
+        Worker(const PatchMesh& mesh, int resolution, const OcclusionCullingSettings& occlusion);
     };
 
     const PatchMesh* mesh_;
     int resolution_;
+    OcclusionCullingSettings occlusion_;
     std::vector<glm::vec3> radiance_;
     std::uint64_t radianceVersion_ = 0;  // 0 = never set: buffers start at zero radiance
     std::shared_ptr<const TexelLight> texelLight_;

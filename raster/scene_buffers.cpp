@@ -72,10 +72,11 @@ SceneBuffers::SceneBuffers(const GlContext& context, const PatchMesh& mesh, std:
     for (std::size_t first = 0; first < elementCount_; first += trianglesPerChunk) {
         const std::size_t last = std::min<std::size_t>(first + trianglesPerChunk, elementCount_);
         Chunk chunk{glm::vec3(std::numeric_limits<float>::infinity()), glm::vec3(-std::numeric_limits<float>::infinity()),
-                    static_cast<GLint>(vertices.size()), static_cast<GLsizei>(3 * (last - first))};
+                    static_cast<GLint>(vertices.size()), static_cast<GLsizei>(3 * (last - first)), 0.0f};
         for (std::size_t k = first; k < last; ++k) {
             const std::uint32_t e = order[k];
             const std::uint32_t normal = packNormal(elements.normal[e]);
+            chunk.areaM2 += static_cast<float>(elements.areaM2[e]);
             for (std::uint32_t vi : elements.triangles[e]) {
                 const glm::vec3 p(elements.vertices[vi] - origin_);
                 chunk.boundsMin = glm::min(chunk.boundsMin, p);

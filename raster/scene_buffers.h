@@ -39,6 +39,7 @@ public:
         glm::vec3 boundsMax;
         GLint firstVertex;
         GLsizei vertexCount;
+        float areaM2;  // of its triangles: how much an occluder it can be
     };
 
     // `context` must outlive this object; binds it while uploading.
@@ -57,6 +58,8 @@ public:
     const GlContext& context() const { return *context_; }
     std::size_t elementCount() const { return elementCount_; }
     std::span<const Chunk> chunks() const { return chunks_; }
+    // Element drawn as triangle k (a chunk holds triangles firstVertex/3 … (firstVertex + vertexCount)/3 − 1).
+    std::span<const std::uint32_t> drawOrder() const { return order_; }
     const glm::dvec3& origin() const { return origin_; }
     double sceneDiagonalM() const { return sceneDiagonalM_; }
     // Vertex array: attribute 0 position (vec3), 1 element index (uint), 2 element normal (packed vec4), 3 lightmap

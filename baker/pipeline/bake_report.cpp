@@ -124,13 +124,17 @@ nlohmann::json BakeReport::toJson() const {
                                         {"smallestSizeM", refinement.directSteps.smallestSizeM}}}};
     auto draws = [&](const HemicubeDrawTotals& d) {
         const double mean = d.hemicubes ? double(d.triangles) / double(d.hemicubes) : 0.0;
+        const double occluders = d.hemicubes ? double(d.occluderTriangles) / double(d.hemicubes) : 0.0;
         return nlohmann::json{{"hemicubes", d.hemicubes},
+                              {"occlusionCulledHemicubes", d.occlusionCulledHemicubes},
                               {"meanTrianglesDrawn", mean},
+                              {"meanOccluderTriangles", occluders},
                               {"meanFractionOfScene",
                                hemicubeDraws.sceneTriangles ? mean / double(hemicubeDraws.sceneTriangles) : 0.0}};
     };
     j["hemicubeDraws"] = {{"sceneTriangles", hemicubeDraws.sceneTriangles},
-                          {"definition", "triangles submitted per hemicube, summed over its five faces, after culling"},
+                          {"definition", "triangles submitted per hemicube, summed over its five faces, after frustum and "
+                                         "occlusion culling, occluder depth pass included (meanOccluderTriangles)"},
                           {"solve", draws(hemicubeDraws.solve)},
                           {"finalGather", draws(hemicubeDraws.finalGather)}};
     if (lightmap) j["lightmap"] = lightmapJson(*lightmap);

@@ -161,8 +161,7 @@ private:
                                           });
         if (result_.solved->pool) {
             HemicubeDrawTotals gather = result_.solved->pool->drawTotals();
-            gather.hemicubes -= result_.report.hemicubeDraws.solve.hemicubes;
-            gather.triangles -= result_.report.hemicubeDraws.solve.triangles;
+            gather -= result_.report.hemicubeDraws.solve;
             result_.report.hemicubeDraws.finalGather = gather;
         }
         for (LightmapImage& image : result_.lightmaps) lm.stats.dilated += dilate(image, s.lightmap.dilationTexels);
