@@ -7,6 +7,7 @@ into docs/tradeoff.md (between `<!-- bench/levels.py -->` markers; the rest of t
     /usr/bin/python3 bench/levels.py                          # everything below (hours on 2 cores)
     /usr/bin/python3 bench/levels.py --levels clean:10000     # one level
     /usr/bin/python3 bench/levels.py --levels clean:10000 --presets medium --spp 16 64 256
+    /usr/bin/python3 bench/levels.py --levels clean:10000 --variant "medium, R 32=--preset medium --hemicube-res 32"
 
 Levels come from examples/generate_level.py (seed 1): `clean:N` builds the layout whose parts meet without
 overlapping, `overlapping:N` the one whose walls stand in the slabs as artists build them. Every bake of a level
@@ -24,7 +25,7 @@ import subprocess
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from tradeoff import ROOT, run, time_to_reach  # noqa: E402  (one timing and interpolation for both benchmarks)
+from tradeoff import ROOT, pyplot, run, time_to_reach  # noqa: E402  (one timing and interpolation for both benchmarks)
 
 MARK_BEGIN = "<!-- bench/levels.py: generated, do not edit by hand -->"
 MARK_END = "<!-- end bench/levels.py -->"
@@ -75,10 +76,13 @@ def sweep_level(a, results, kind, triangles):
                                       "texelsPerUnit": a.texels_per_unit, "rows": {}})
     save = lambda: json.dump(results, open(os.path.join(a.work, "levels.json"), "w"), indent=1)
 
+    # The layout is the draft bake: its row is recorded like every other bake's (bake_row), so it is not baked twice.
     layout = os.path.join(base, "layout")
     if not os.path.exists(os.path.join(layout, "bake.json")):
         print(f"[{name}] layout (draft bake) ...", flush=True)
-        run([a.binary, "bake", gltf, "-o", layout, "--preset", "draft", "--no-preview"] + density)
+        wall, mem, _ = run([a.binary, "bake", gltf, "-o", layout, "--preset", "draft", "--no-preview"] + density)
+        level["layoutRun"] = {"seconds": wall, "peakMiB": mem}
+        save()
     reference = os.path.join(base, "reference")
     if level.get("referenceSpp") != a.reference_spp or not os.path.exists(os.path.join(reference, "reference.json")):
         print(f"[{name}] converged reference at {a.reference_spp} spp ...", flush=True)
@@ -88,16 +92,23 @@ def sweep_level(a, results, kind, triangles):
         level["rows"] = {}  # every score was against the old reference
         save()
 
-    for preset in a.presets:
+    bakes = [(preset, ["--preset", preset]) for preset in a.presets]
+    for variant in a.variant:
+        label, _, args = variant.partition("=")
+        bakes.append((label, args.split()))
+    for preset, args in bakes:
         key = f"bake {preset}"
         if key in level["rows"]:
             continue
         out_dir = os.path.join(base, "bake-" + preset)
-        print(f"[{name}] bake --preset {preset} ...", flush=True)
-        wall, mem, _ = run([a.binary, "bake", gltf, "-o", out_dir, "--preset", preset, "--no-preview"] + density)
+        if args == ["--preset", "draft"] and "layoutRun" in level:
+            out_dir, wall, mem = layout, level["layoutRun"]["seconds"], level["layoutRun"]["peakMiB"]
+        else:
+            print(f"[{name}] bake {' '.join(args)} ...", flush=True)
+            wall, mem, _ = run([a.binary, "bake", gltf, "-o", out_dir, "--no-preview"] + args + density)
         report = json.load(open(os.path.join(out_dir, "bake.json")))
         draws = report.get("hemicubeDraws", {})
-        row = {"method": "bake", "setting": preset, "seconds": wall, "peakMiB": mem,
+        row = {"method": "bake", "setting": preset, "args": " ".join(args), "seconds": wall, "peakMiB": mem,
                "sceneTriangles": draws.get("sceneTriangles"),
                "solveHemicubes": draws.get("solve", {}).get("hemicubes"),
                "solveDrawnFraction": draws.get("solve", {}).get("meanFractionOfScene"),
@@ -107,7 +118,7 @@ def sweep_level(a, results, kind, triangles):
         level["rows"][key] = row
         save()
         print(f"[{name}] bake {preset}: {wall:.0f} s, {mem:.0f} MiB, per texel {100 * row['meanRelativeError']:.2f} %", flush=True)
-        if not a.keep:
+        if not a.keep and out_dir != layout:
             shutil.rmtree(out_dir, ignore_errors=True)
 
     for spp in a.spp:
@@ -136,12 +147,8 @@ def speedup(level, preset="medium"):
 
 
 def plot(results, path):
-    try:
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError:
-        print("python3-matplotlib not installed: no plot", file=sys.stderr)
+    plt = pyplot()
+    if plt is None:
         return False
     levels = list(results.values())
     fig, axes = plt.subplots(1, len(levels), figsize=(6 * len(levels), 4.8), squeeze=False)
@@ -234,6 +241,8 @@ def main():
     ap.add_argument("--levels", nargs="+", default=["clean:10000", "overlapping:100000", "overlapping:300000"],
                     help="KIND:TRIANGLES, KIND clean or overlapping")
     ap.add_argument("--presets", nargs="+", default=["draft", "medium", "high", "ultra"])
+    ap.add_argument("--variant", action="append", default=[], metavar="LABEL=ARGS",
+                    help="an extra bake row, e.g. 'medium, interpolate=--preset medium --texel-mode interpolate'")
     ap.add_argument("--spp", nargs="+", type=int, default=[16, 64, 256, 1024])
     ap.add_argument("--reference-spp", type=int, default=4096)
     ap.add_argument("--texels-per-unit", type=float, default=16.0)

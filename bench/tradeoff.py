@@ -100,13 +100,21 @@ def sweep_scene(binary, work, scene, texels_per_unit, reference_spp, bakes, spps
             "referenceSeconds": ref_wall, "rows": rows}
 
 
-def plot(results, path):
+def pyplot():
+    """matplotlib.pyplot on the file-only backend, or None (with a note) when python3-matplotlib is missing."""
     try:
         import matplotlib
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
+        return plt
     except ImportError:
         print("python3-matplotlib not installed: no plot", file=sys.stderr)
+        return None
+
+
+def plot(results, path):
+    plt = pyplot()
+    if plt is None:
         return False
     fig, axes = plt.subplots(1, len(results), figsize=(6.5 * len(results), 5), squeeze=False)
     for ax, res in zip(axes[0], results):
