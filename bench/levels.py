@@ -146,6 +146,18 @@ def speedup(level, preset="medium"):
     return (t / bake["seconds"] if t else None), t
 
 
+def reference_noise(level):
+    """r in error(spp)² ≈ a/spp + r², fitted to the two highest-spp path-tracer rows (None if not estimable)."""
+    pts = sorted((int(r["setting"].split()[0]), r["meanRelativeError"]) for r in level["rows"].values()
+                 if r["method"] == "path tracer")
+    if len(pts) < 2:
+        return None
+    (s0, e0), (s1, e1) = pts[-2], pts[-1]
+    a = (e0 * e0 - e1 * e1) / (1.0 / s0 - 1.0 / s1)
+    r2 = e1 * e1 - a / s1
+    return r2 ** 0.5 if a > 0 and r2 > 0 else None
+
+
 def plot(results, path):
     plt = pyplot()
     if plt is None:
@@ -211,7 +223,7 @@ def write_docs(results, docs, png):
             per_texel_us = 1e6 * r["seconds"] / texels if texels else float("nan")
             per_texel_kib = 1024.0 * r["peakMiB"] / texels if texels else float("nan")
             frac = lambda v: "—" if v is None else f"{100 * v:.1f} %"
-            perf.append(f"| {level['level']} ({r.get('sceneTriangles')} triangles) | {texels} | {r['setting']} | "
+            perf.append(f"| {level['level']} ({r.get('sceneTriangles')} element triangles) | {texels} | {r['setting']} | "
                         f"{r['seconds']:.0f} | {r['peakMiB']:.0f} | {per_texel_us:.0f} | {per_texel_kib:.2f} | "
                         f"{r.get('solveHemicubes')} | {frac(r.get('solveDrawnFraction'))} | {r.get('gatherHemicubes')} | "
                         f"{frac(r.get('gatherDrawnFraction'))} |")
@@ -225,6 +237,10 @@ def write_docs(results, docs, png):
                          f"{pct(r['meanRelativeError'])} | {pct(r['meanSignedRelativeError'], True)} | "
                          f"{pct(r['p95RelativeError'])} | {pct(r.get('objectMedianError'))} | "
                          f"{pct(r.get('objectWorstError'))} | {pct(r.get('objectMeanSignedError'), True)} |")
+        floor = reference_noise(level)
+        if floor:
+            trade += ["", f"The path tracer's rows fit error² ≈ a/spp + r² with r ≈ {100 * floor:.1f} %: the reference's own "
+                          "noise, a floor under every row (a bake near it is as right as this reference can tell)."]
         if ratio:
             trade += ["", f"The path tracer reaches the medium preset's per-texel error in {t_pt:.0f} s: "
                           f"**{ratio:.1f}×** the bake's time (issue 16 asks ≥ 10× on the clean ~10k level)."]
