@@ -25,15 +25,10 @@ import subprocess
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from tradeoff import ROOT, pyplot, run, time_to_reach  # noqa: E402  (one timing and interpolation for both benchmarks)
+from tradeoff import ROOT, compare_json, label_axes, pyplot, run, time_to_reach  # noqa: E402  (one timing and interpolation for both benchmarks)
 
 MARK_BEGIN = "<!-- bench/levels.py: generated, do not edit by hand -->"
 MARK_END = "<!-- end bench/levels.py -->"
-
-
-def compare_json(binary, a, b):
-    _, _, out = run([binary, "compare", a, b, "--json"])
-    return json.loads(out)
 
 
 def per_object(comparison):
@@ -174,11 +169,8 @@ def plot(results, path):
             for r in rows:
                 ax.annotate(r["setting"], (r["seconds"], 100 * r["meanRelativeError"]), fontsize=7,
                             textcoords="offset points", xytext=(3, 3))
-        ax.set_xlabel("wall time, s (2 cores)")
-        ax.set_ylabel("per-texel mean relative error, %")
-        ax.set_title(f"{level['level']} at {level['texelsPerUnit']}/m: {level.get('texels')} texels", fontsize=9)
-        ax.grid(True, which="both", lw=0.3)
-        ax.legend(fontsize=7)
+        label_axes(ax, "per-texel mean relative error, %",
+                   f"{level['level']} at {level['texelsPerUnit']}/m: {level.get('texels')} texels")
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     return True

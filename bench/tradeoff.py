@@ -36,9 +36,14 @@ def run(cmd, quiet=True):
     return wall, peak_kib / 1024.0, proc.stdout
 
 
-def compare(binary, a, b):
+def compare_json(binary, a, b):
+    """`hemibake compare A B --json` (B the reference), parsed."""
     _, _, out = run([binary, "compare", a, b, "--json"])
-    g = json.loads(out)["global"]
+    return json.loads(out)
+
+
+def compare(binary, a, b):
+    g = compare_json(binary, a, b)["global"]
     return {k: g[k] for k in ("meanRelativeError", "meanSignedRelativeError", "p95RelativeError", "rmse")}
 
 
@@ -112,6 +117,15 @@ def pyplot():
         return None
 
 
+def label_axes(ax, ylabel, title):
+    """The error-against-time axes both benchmarks draw: wall time on x, a log grid, a small legend."""
+    ax.set_xlabel("wall time, s (2 cores)")
+    ax.set_ylabel(ylabel)
+    ax.set_title(title, fontsize=9)
+    ax.grid(True, which="both", lw=0.3)
+    ax.legend(fontsize=7)
+
+
 def plot(results, path):
     plt = pyplot()
     if plt is None:
@@ -129,11 +143,8 @@ def plot(results, path):
                 ax.annotate(r["label"], (r["seconds"], 100 * r["meanRelativeError"]), fontsize=6,
                             textcoords="offset points", xytext=(3, 3))
         ax.axhline(2.0, color="grey", lw=0.8, ls="--")
-        ax.set_xlabel("wall time, s (2 cores)")
-        ax.set_ylabel("mean relative error vs reference, %")
-        ax.set_title(f"{res['scene']}, {res['texelsPerUnit']}/m: {res['texels']} texels, ref {res['referenceSpp']} spp", fontsize=9)
-        ax.grid(True, which="both", lw=0.3)
-        ax.legend(fontsize=7)
+        label_axes(ax, "mean relative error vs reference, %",
+                   f"{res['scene']}, {res['texelsPerUnit']}/m: {res['texels']} texels, ref {res['referenceSpp']} spp")
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     return True

@@ -98,8 +98,8 @@ CubeMapRenderer::CubeMapRenderer(const SceneBuffers& scene, int resolution)
     gl.Uniform1i(radianceUniform_, 0);
     gl.UseProgram(0);
     gl.check(("CubeMapRenderer: creating the R=" + std::to_string(resolution) + " atlas").c_str());
-    drawFirsts_.reserve(CubeMapImage::kFaceCount * scene.chunks().size());
-    drawCounts_.reserve(CubeMapImage::kFaceCount * scene.chunks().size());
+    runs_.firsts.reserve(scene.chunks().size());
+    runs_.counts.reserve(scene.chunks().size());
 }
 
 void CubeMapRenderer::render(const glm::dvec3& position, glm::vec3 skyRadiance, CubeMapImage& out) {
@@ -126,33 +126,27 @@ void CubeMapRenderer::render(const glm::dvec3& position, glm::vec3 skyRadiance, 
     // Per face, the chunks inside the face's frustum (four side planes through the eye; the slack covers float
     // rounding of positions relative to the scene centre), merged into runs of one multi-draw.
     const auto chunks = scene_->chunks();
-    const float slack = static_cast<float>(1e-6 * scene_->sceneDiagonalM());
+    const float slack = chunkBoundsSlack(*scene_);
     lastChunksDrawn_ = 0;
     for (int face = 0; face < CubeMapImage::kFaceCount; ++face) {
         const CubeFaceBasis& b = cubeFaceBasis(face);
         const glm::vec3 f(b.forward), r(b.right), u(b.up);
         const glm::vec3 planes[4] = {f - r, f + r, f - u, f + u};
-        drawFirsts_.clear();
-        drawCounts_.clear();
+        runs_.clear();
         for (const SceneBuffers::Chunk& chunk : chunks) {
             bool visible = true;
             for (const glm::vec3& plane : planes) visible = visible && maxAlongPlane(plane, chunk, eye) >= -slack;
             if (!visible) continue;
             ++lastChunksDrawn_;
-            if (!drawFirsts_.empty() && drawFirsts_.back() + drawCounts_.back() == chunk.firstVertex)
-                drawCounts_.back() += chunk.vertexCount;
-            else {
-                drawFirsts_.push_back(chunk.firstVertex);
-                drawCounts_.push_back(chunk.vertexCount);
-            }
+            runs_.add(chunk);
         }
-        if (drawFirsts_.empty()) continue;
+        if (runs_.empty()) continue;
         const GLfloat rows[9] = {r.x, r.y, r.z, u.x, u.y, u.z, f.x, f.y, f.z};
         gl.UniformMatrix3fv(faceRowsUniform_, 1, GL_TRUE, rows);
         const GLint x = (face % 3) * resolution_, y = (face / 3) * resolution_;
         gl.Viewport(x, y, resolution_, resolution_);
         gl.Scissor(x, y, resolution_, resolution_);
-        gl.MultiDrawArrays(GL_TRIANGLES, drawFirsts_.data(), drawCounts_.data(), static_cast<GLsizei>(drawFirsts_.size()));
+        runs_.draw(gl);
     }
     gl.BindVertexArray(0);
     gl.UseProgram(0);

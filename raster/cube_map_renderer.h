@@ -16,6 +16,7 @@
 
 #include <glm/glm.hpp>
 
+#include "raster/chunk_culling.h"
 #include "raster/scene_buffers.h"
 
 namespace hemibake {
@@ -71,8 +72,7 @@ private:
     GlObject depthBuffer_;
     GlObject program_;
     GLint eyeUniform_ = -1, faceRowsUniform_ = -1, nearUniform_ = -1, radianceUniform_ = -1;
-    std::vector<GLint> drawFirsts_;
-    std::vector<GLsizei> drawCounts_;
+    ChunkRuns runs_;  // one face's multi-draw ranges
     std::size_t lastChunksDrawn_ = 0;
 };
 

@@ -169,8 +169,8 @@ HemicubeRenderer::HemicubeRenderer(const SceneBuffers& scene, int resolution, co
     chunkFaces_.resize(scene.chunks().size());
     chunkIsOccluder_.resize(scene.chunks().size());
     occluderCandidates_.reserve(scene.chunks().size());
-    drawFirsts_.reserve(scene.chunks().size());
-    drawCounts_.reserve(scene.chunks().size());
+    runs_.firsts.reserve(scene.chunks().size());
+    runs_.counts.reserve(scene.chunks().size());
 }
 
 void HemicubeRenderer::draw(const HemicubeFrame& frame, Target target, glm::vec3 skyRadiance) {
@@ -183,10 +183,9 @@ void HemicubeRenderer::draw(const HemicubeFrame& frame, Target target, glm::vec3
     const glm::dvec3 normal = glm::normalize(frame.normal);
     const glm::vec3 eye(frame.position + eyeOffsetM_ * normal - scene_->origin());
 
-    // Per face: the frame, and per chunk the faces whose frustum its box reaches (CPU culling). The slack covers
-    // float rounding of positions relative to the scene centre.
+    // Per face: the frame, and per chunk the faces whose frustum its box reaches (CPU culling).
     const auto chunks = scene_->chunks();
-    const float slack = static_cast<float>(1e-6 * scene_->sceneDiagonalM());
+    const float slack = chunkBoundsSlack(*scene_);
     const glm::dvec3 forwards[HemicubeWeights::kFaceCount] = {normal, tangent, -tangent, bitangent, -bitangent};
     FaceProjection faces[HemicubeWeights::kFaceCount];
     glm::vec3 planes[HemicubeWeights::kFaceCount][4];
@@ -261,19 +260,13 @@ std::size_t HemicubeRenderer::drawChunks(const FaceProjection& face, const Unifo
                                          std::uint64_t& triangles) {
     const GlFunctions& gl = scene_->context().gl();
     const auto chunks = scene_->chunks();
-    drawFirsts_.clear();
-    drawCounts_.clear();
+    runs_.clear();
     std::size_t drawn = 0;
     for (std::size_t c = 0; c < chunks.size(); ++c) {
         if (!keep(c)) continue;
         ++drawn;
         triangles += std::uint64_t(chunks[c].vertexCount) / 3;
-        if (!drawFirsts_.empty() && drawFirsts_.back() + drawCounts_.back() == chunks[c].firstVertex)
-            drawCounts_.back() += chunks[c].vertexCount;  // merge runs: fewer draws for llvmpipe to set up
-        else {
-            drawFirsts_.push_back(chunks[c].firstVertex);
-            drawCounts_.push_back(chunks[c].vertexCount);
-        }
+        runs_.add(chunks[c]);
     }
     if (drawn == 0) return 0;
     const GLfloat rows[9] = {face.right.x, face.right.y, face.right.z, face.up.x,     face.up.y,
@@ -283,7 +276,7 @@ std::size_t HemicubeRenderer::drawChunks(const FaceProjection& face, const Unifo
     const PixelRect& vp = face.viewport;
     gl.Viewport(vp.x, vp.y, vp.width, vp.height);
     gl.Scissor(vp.x, vp.y, vp.width, vp.height);
-    gl.MultiDrawArrays(GL_TRIANGLES, drawFirsts_.data(), drawCounts_.data(), static_cast<GLsizei>(drawFirsts_.size()));
+    runs_.draw(gl);
     return drawn;
 }
 
@@ -315,7 +308,7 @@ void HemicubeRenderer::cullOccludedChunks(const glm::vec3& eye,
     gl.Uniform3f(itemUniforms_.eye, eye.x, eye.y, eye.z);
     gl.Uniform1f(itemUniforms_.nearM, static_cast<float>(nearPlaneM_));
     ++drawTotals_.occlusionCulledHemicubes;
-    const float slack = static_cast<float>(1e-6 * scene_->sceneDiagonalM());
+    const float slack = chunkBoundsSlack(*scene_);
     const float nearM = static_cast<float>(nearPlaneM_);
 
     // Rounds: draw the next batch of largest-looking chunks not yet hidden (depth only, accumulating), read the depth

@@ -16,6 +16,7 @@
 
 #include <glm/glm.hpp>
 
+#include "raster/chunk_culling.h"
 #include "raster/hemicube_reduction.h"
 #include "raster/hemicube_weights.h"
 #include "raster/occlusion_culling.h"
@@ -91,7 +92,8 @@ public:
     // close; anything nearer than it to the eye is clipped (the leak at concave corners shrinks with it).
     static constexpr double kNearPlanePerEyeOffset = 0.5;
 
-    // `scene` (and its context) must outlive the renderer. Binds the context while creating GL objects.
+    // `scene` (and its context) must outlive the renderer. Binds the context while creating GL objects. `occlusion`
+    // changes what is drawn, never what is seen (ids and gathers are identical with it off).
     HemicubeRenderer(const SceneBuffers& scene, int resolution, const OcclusionCullingSettings& occlusion = {});
     HemicubeRenderer(const HemicubeRenderer&) = delete;
     HemicubeRenderer& operator=(const HemicubeRenderer&) = delete;
@@ -112,9 +114,6 @@ public:
     const SceneBuffers& scene() const { return *scene_; }
     double eyeOffsetM() const { return eyeOffsetM_; }
     double nearPlaneM() const { return nearPlaneM_; }
-    // Culling changes what is drawn, never what is seen (ids and gathers are identical with it off).
-    void setOcclusionCulling(const OcclusionCullingSettings& settings) { occlusion_ = settings; }
-    const OcclusionCullingSettings& occlusionCulling() const { return occlusion_; }
     // Chunks drawn (summed over faces) by the last render: for benchmarks and culling tests.
     std::size_t lastChunksDrawn() const { return lastChunksDrawn_; }
     // Every render since construction. Not thread-safe against a render on this renderer.
@@ -153,8 +152,7 @@ private:
     std::vector<float> depths_;
     std::vector<glm::vec4> radiance_;
     std::vector<double> accumulator_;  // per element, zero between renders
-    std::vector<GLint> drawFirsts_;  // one face's multi-draw ranges
-    std::vector<GLsizei> drawCounts_;
+    ChunkRuns runs_;  // one face's multi-draw ranges
     std::vector<std::uint8_t> chunkFaces_;  // per chunk, bit f: drawn on face f
     OcclusionCullingSettings occlusion_;
     DepthPyramid depthPyramid_;
