@@ -17,7 +17,9 @@ namespace hemibake {
 
 class GlContext {
 public:
-    // OpenGL 4.5 core; falls back to 3.3 core (which then needs ARB_clip_control for GlFunctions to load).
+    // OpenGL 4.5 core; falls back to 3.3 core (which then needs ARB_clip_control for GlFunctions to load). The
+    // first context of the process sets LP_NUM_THREADS=0 (llvmpipe rasterizes on the calling thread; see the .cpp).
+    // Throws GlError; thread-safe.
     GlContext();
     ~GlContext();
     GlContext(const GlContext&) = delete;
