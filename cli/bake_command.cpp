@@ -130,7 +130,9 @@ CommandRunner addBakeCommand(CLI::App& app) {
                                                "convergence history, power ledger, primitives)");
     cmd->add_option("scene", o->scenePath, "glTF 2.0 scene (.gltf or .glb)")->required();
     cmd->add_option("-o,--output", o->outDir, "Output directory (created if missing; files appear atomically)")->required();
-    std::string presetHelp = "Speed/accuracy preset; sizes scale with the scene's bounding-box diagonal:";
+    std::string presetHelp = "Speed/accuracy preset; sizes scale with the scene's bounding-box diagonal up to 28 m, stay fixed in metres "
+                             "from there to 280 m (a level's patches are room-sized whatever its extent) and follow a tenth of "
+                             "the diagonal beyond (open worlds):";
     for (const PresetDescription& p : presetDescriptions()) presetHelp += "\n  " + p.name + ": " + p.summary;
     cmd->add_option("--preset", o->preset, presetHelp)->capture_default_str()->check(CLI::IsMember({"draft", "medium", "high", "ultra"}));
     cmd->add_option("--patch-size", o->patchSize, "Longest edge of a shooting patch, metres (overrides the preset)")

@@ -24,7 +24,11 @@ Scene transformed(Scene scene, double scale, const glm::dvec3& offset) {
 
 // Per instance, the mean lightmap E/π over its texels (draft preset, 32 texels per unit of the unscaled box).
 std::vector<glm::dvec3> surfaceMeans(const Scene& scene, double scale) {
-    BakeSettings settings = presetSettings("draft", scene.bounds().diagonal());
+    // The preset of the unscaled box, its lengths scaled: presets stop growing patches at a 28 m diagonal (a
+    // kilometre box is a level to them), and what is compared here is one subdivision at every scale.
+    BakeSettings settings = presetSettings("draft", scene.bounds().diagonal() / scale);
+    settings.solve.subdivision.patchSizeM *= scale;
+    settings.solve.subdivision.elementSizeM *= scale;
     settings.lightmap.texelsPerUnit = 32.0 / scale;
     // Room-scale refinement is a threshold per element on 16 rays' mean free path: where a ray grazes a block's
     // edge, rounding at another scale can flip it (35 regions at ×1, 37 at ×1e-3, 0.2 % on one surface). That is
