@@ -29,6 +29,8 @@ nlohmann::json convergenceJson(const SolveReport& solve) {
             {"emittersByRays", solve.emittersByRays},
             {"formFactorCacheMiB", double(solve.formFactorCacheBytes) / 1048576.0},
             {"gatherSweeps", solve.gatherSweeps},
+            {"subPixelElements", solve.subPixelElements},
+            {"regatheredElements", solve.regatheredElements},
             {"unshotFraction", solve.unshotFraction},
             {"errorBound", solve.errorBound},
             {"localBound", {{"max", solve.localBoundMax}, {"p95", solve.localBoundP95}, {"median", solve.localBoundMedian}}},

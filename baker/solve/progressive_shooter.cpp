@@ -55,6 +55,7 @@ ProgressiveShooter::ProgressiveShooter(const PatchMesh& mesh, RadiositySolution&
                                                std::size_t(settings.formFactorCacheMiB * 1048576.0))) {
     shotOnce_.assign(mesh.patches.size(), false);
     unshotW_.assign(mesh.elements.size(), 0.0);
+    maxReceivedFormFactor_.assign(mesh.elements.size(), 0.0f);
     for (const glm::vec3& rho : mesh.elements.reflectance)
         maxReflectance_ = std::max({maxReflectance_, double(rho.x), double(rho.y), double(rho.z)});
 }
@@ -248,7 +249,9 @@ void ProgressiveShooter::applyRow(std::uint32_t patch, const FormFactorRow& row,
     for (std::size_t k = 0; k < row.elements.size(); ++k) {
         const std::uint32_t j = row.elements[k];
         // Reciprocity: F_ji = F_ij·A_i/A_j, so the irradiance j gains is ΔB_i·F_ij·A_i/A_j.
-        const glm::dvec3 deltaIrradiance = delta * (double(row.formFactors[k]) * shooterArea / el.areaM2[j]);
+        const double receivedFormFactor = double(row.formFactors[k]) * shooterArea / el.areaM2[j];
+        maxReceivedFormFactor_[j] = std::max(maxReceivedFormFactor_[j], float(receivedFormFactor));
+        const glm::dvec3 deltaIrradiance = delta * receivedFormFactor;
         const glm::dvec3 reflected = glm::dvec3(el.reflectance[j]) * deltaIrradiance;
         solution_.irradiance[j] += deltaIrradiance;
         solution_.radiosity[j] += reflected;

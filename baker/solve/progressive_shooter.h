@@ -66,6 +66,10 @@ public:
     // (no rendering). `unknownPatches` counts unshot patches without a row (their light is not in it).
     std::vector<glm::dvec3> pendingIrradiance(std::size_t* unknownPatches = nullptr) const;
     const LocalBound& finalLocalBound() const { return finalBound_; }
+    // Per element, the largest F_ji = F_ij·A_i/A_j any shot handed it. Above about 1 the shooter's hemicube gave a
+    // receiver far smaller than its pixels a whole pixel (a sliver beside a wall): right on average over shots,
+    // but that element's own value is noise and wants a gather of its own.
+    const std::vector<float>& maxReceivedFormFactor() const { return maxReceivedFormFactor_; }
 
     const ShootingLedger& ledger() const { return ledger_; }
     std::size_t formFactorCacheBytes() const { return cache_->bytesUsed(); }
@@ -112,6 +116,7 @@ private:
     std::vector<bool> shotOnce_;  // per patch: has shot (its row may not be cached)
     // Unshot power per element, W (channel sum): where on its patch the light to shoot lies.
     std::vector<double> unshotW_;
+    std::vector<float> maxReceivedFormFactor_;  // per element, see maxReceivedFormFactor()
     std::unique_ptr<tbb::enumerable_thread_specific<MergeScratch>> scratch_;
     std::unique_ptr<FormFactorCache> cache_;
 };

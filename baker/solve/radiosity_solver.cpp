@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <span>
+#include <unordered_map>
 
 #include "baker/direct/direct_light.h"
 #include "baker/direct/emissive_area_lights.h"
@@ -13,6 +15,7 @@
 #include "baker/util/stopwatch.h"
 #include "mesh/triangle_sampling.h"
 #include "raster/hemicube_pool.h"
+#include "raster/hemicube_weights.h"
 
 namespace hemibake {
 
@@ -100,9 +103,142 @@ std::vector<glm::dvec3> ambientIrradiance(const PatchMesh& mesh, std::vector<glm
     return pending;
 }
 
+// Makes `eOverPi` (E/π gathered at element e's centroid from the current solution, sky included) e's light:
+// H = π·E/π + the ray-traced light the gather cannot see, B = π·L_e + ρ·H. Adds |ΔB|·A and B·A (channel sums)
+// to `change` and `total`.
+void takeGathered(const PatchMesh& mesh, const InjectedLight& light, std::size_t e, const glm::dvec3& eOverPi,
+                  RadiositySolution& solution, double& change, double& total) {
+    const ElementArrays& el = mesh.elements;
+    const glm::dvec3 irradiance = M_PI * eOverPi + light.rayTraced[e];
+    const glm::dvec3 b = M_PI * glm::dvec3(el.emittedRadiance[e]) + glm::dvec3(el.reflectance[e]) * irradiance;
+    change += channelSum(glm::abs(b - solution.displayRadiosity(mesh, e))) * el.areaM2[e];
+    total += channelSum(b) * el.areaM2[e];
+    solution.irradiance[e] = irradiance;
+    solution.radiosity[e] = b;
+}
+
+// A receiver cannot see more than its whole hemisphere of one patch: a shot that hands element j F_ji = F_ij·A_i/A_j
+// above this gave it a whole hemicube pixel much larger than it (a sliver beside a wall), or it sat too near the
+// shooter for the shooter's hemicube. level_clean has elements of 1e-13 m² handed F_ji = 8e7, radiosity 1e7 W/m²,
+// and whole rooms came out +120 … +390 % per object through the texels that see them. The power such a shot moves
+// is right on average (the receiver's patch shoots it on); only the element's own value is noise.
+constexpr double kPlausibleReceivedFormFactor = 1.0;
+
+// Replaces the shot light of elements no shot can measure (see kPlausibleReceivedFormFactor):
+//  - sub-pixel elements, smaller than the largest hemicube pixel's form factor times the largest patch's area: one
+//    pixel would hand them F_ji > 1, and the rasteriser mostly snaps them to no pixel at all. They take their
+//    patch's mean shot light over its measurable elements (no hemicube can stand at a 1 µm needle in a corner:
+//    its near plane reaches through the wall);
+//  - the other elements a shot handed F_ji > 1 are gathered again: one hemicube at the centroid, seeing the others
+//    (with the implausible ones at their patch's mean).
+// Their own ray-traced light stays; their ambient goes (the patch mean and the gather include it).
+void replaceImplausibleReceivers(const PatchMesh& mesh, const SolveSettings& settings, HemicubePool& pool,
+                                 const InjectedLight& light, const std::vector<float>& maxReceivedFormFactor,
+                                 RadiositySolution& solution, SolveReport& report) {
+    const ElementArrays& el = mesh.elements;
+    const PatchArrays& pa = mesh.patches;
+    const std::span<const double> pixels = HemicubeWeights(settings.solver.hemicubeResolution).weights();
+    const double largestPixel = pixels.empty() ? 0.0 : *std::max_element(pixels.begin(), pixels.end());
+    const double largestPatchM2 = pa.areaM2.empty() ? 0.0 : *std::max_element(pa.areaM2.begin(), pa.areaM2.end());
+    const double subPixelM2 = largestPixel * largestPatchM2 / kPlausibleReceivedFormFactor;
+    enum : std::uint8_t { kMeasured, kSubPixel, kRegather };
+    std::vector<std::uint8_t> kind(el.size(), kMeasured);
+    std::vector<std::uint32_t> regather;
+    for (std::size_t e = 0; e < el.size(); ++e) {
+        if (el.areaM2[e] < subPixelM2) {
+            kind[e] = kSubPixel;
+            ++report.subPixelElements;
+        } else if (e < maxReceivedFormFactor.size() && maxReceivedFormFactor[e] > kPlausibleReceivedFormFactor) {
+            kind[e] = kRegather;
+            regather.push_back(std::uint32_t(e));
+        }
+    }
+    report.regatheredElements = regather.size();
+    if (report.subPixelElements == 0 && regather.empty()) return;
+
+    // Shot light (all but the ray-traced part): the area-weighted mean over the measured elements nearest around
+    // each replaced one, on the same instance and facing the same way: within twice its longest edge, or twice
+    // that, … up to an element size (refined elements keep their detail; a needle in a corner is often a face and
+    // a patch of its own); the patch's mean over all its elements where there are none; else none.
+    auto shotLight = [&](std::size_t e) { return solution.displayIrradiance(e) - light.rayTraced[e]; };
+    const double cellM = std::max(settings.subdivision.elementSizeM, 1e-12);
+    auto cellOf = [&](const glm::dvec3& p) { return glm::i64vec3(glm::floor(p / cellM)); };
+    auto cellKey = [](const glm::i64vec3& c) {
+        return std::uint64_t(c.x) * 0x9E3779B97F4A7C15ull ^ std::uint64_t(c.y) * 0xC2B2AE3D27D4EB4Full ^ std::uint64_t(c.z) * 0x165667B19E3779F9ull;
+    };
+    auto longestEdgeM = [&](std::size_t e) {
+        const auto& t = el.triangles[e];
+        const glm::dvec3 &a = el.vertices[t[0]], &b = el.vertices[t[1]], &c = el.vertices[t[2]];
+        return std::max({glm::length(b - a), glm::length(c - b), glm::length(a - c)});
+    };
+    std::unordered_multimap<std::uint64_t, std::uint32_t> measuredByCell;
+    std::vector<glm::dvec3> patchSum(pa.size(), glm::dvec3(0.0));
+    std::vector<double> patchArea(pa.size(), 0.0);
+    for (std::size_t e = 0; e < el.size(); ++e) {
+        patchSum[el.patch[e]] += shotLight(e) * el.areaM2[e];
+        patchArea[el.patch[e]] += el.areaM2[e];
+        if (kind[e] == kMeasured) measuredByCell.emplace(cellKey(cellOf(el.centroid[e])), std::uint32_t(e));
+    }
+    std::vector<std::pair<std::uint32_t, glm::dvec3>> replaced;
+    std::vector<std::pair<double, std::uint32_t>> around;  // (distance, element)
+    for (std::size_t e = 0; e < el.size(); ++e) {
+        if (kind[e] == kMeasured) continue;
+        around.clear();
+        const glm::i64vec3 c = cellOf(el.centroid[e]);
+        for (std::int64_t dz = -1; dz <= 1; ++dz)
+            for (std::int64_t dy = -1; dy <= 1; ++dy)
+                for (std::int64_t dx = -1; dx <= 1; ++dx) {
+                    const auto [first, last] = measuredByCell.equal_range(cellKey(c + glm::i64vec3(dx, dy, dz)));
+                    for (auto it = first; it != last; ++it) {
+                        const std::uint32_t m = it->second;
+                        const double d = glm::length(el.centroid[m] - el.centroid[e]);
+                        if (el.instance[m] == el.instance[e] && glm::dot(el.normal[m], el.normal[e]) >= 0.9f && d <= cellM)
+                            around.emplace_back(d, m);
+                    }
+                }
+        glm::dvec3 sum(0.0);
+        double area = 0.0;
+        if (!around.empty()) {
+            const double nearest = std::min_element(around.begin(), around.end())->first;
+            double radius = std::max(2.0 * longestEdgeM(e), 1e-12);
+            while (radius < nearest) radius *= 2.0;
+            for (const auto& [d, m] : around)
+                if (d <= radius) {
+                    sum += shotLight(m) * el.areaM2[m];
+                    area += el.areaM2[m];
+                }
+        }
+        const std::uint32_t p = el.patch[e];
+        replaced.emplace_back(std::uint32_t(e), area > 0.0             ? sum / area
+                                                : patchArea[p] > 0.0 ? patchSum[p] / patchArea[p]
+                                                                     : glm::dvec3(0.0));
+    }
+    for (const auto& [e, shot] : replaced) {
+        solution.irradiance[e] = light.rayTraced[e] + glm::max(shot, glm::dvec3(0.0));
+        solution.radiosity[e] = M_PI * glm::dvec3(el.emittedRadiance[e]) + glm::dvec3(el.reflectance[e]) * solution.irradiance[e];
+        if (!solution.ambientIrradiance.empty()) solution.ambientIrradiance[e] = glm::dvec3(0.0);
+    }
+    if (regather.empty()) return;
+
+    const bool emittersByRays = light.areaLights != nullptr;
+    std::vector<glm::vec3> radiance(el.size());
+    for (std::size_t e = 0; e < el.size(); ++e) radiance[e] = solution.gatherRadiance(mesh, e, emittersByRays);
+    Gatherer gatherer(pool, settings.solver.seed ^ 0xE1A5ull);
+    gatherer.setElementRadiance(radiance);
+    std::vector<GatherPoint> points(regather.size());
+    for (std::size_t k = 0; k < regather.size(); ++k) points[k] = {el.centroid[regather[k]], el.normal[regather[k]]};
+    std::vector<glm::dvec3> eOverPi;
+    gatherer.gather(points, settings.lighting.skyRadiance, 1, eOverPi);
+    double change = 0.0, total = 0.0;
+    for (std::size_t k = 0; k < regather.size(); ++k) takeGathered(mesh, light, regather[k], eOverPi[k], solution, change, total);
+    report.hemicubes += regather.size();
+}
+
 // Progressive shooting to the bound; fills the report's shooting figures and power ledger.
+// `maxReceivedFormFactor` receives ProgressiveShooter::maxReceivedFormFactor().
 void shootToBound(const PatchMesh& mesh, const SolveSettings& settings, HemicubePool& pool, const InjectedLight& light,
-                  double startSeconds, RadiositySolution& solution, SolveReport& report, const SolveProgress& progress) {
+                  double startSeconds, RadiositySolution& solution, SolveReport& report, const SolveProgress& progress,
+                  std::vector<float>& maxReceivedFormFactor) {
     ProgressiveShooter shooter(mesh, solution, pool, settings.solver);
     shooter.injectEmission(!light.areaLights);
     shooter.injectIrradiance(light.injected);
@@ -137,6 +273,7 @@ void shootToBound(const PatchMesh& mesh, const SolveSettings& settings, Hemicube
         report.ambientUnknownPatches = unknown;
         solution.ambientIrradiance = ambientIrradiance(mesh, std::move(pending), report);
     }
+    maxReceivedFormFactor = shooter.maxReceivedFormFactor();
 }
 
 // Jacobi gathering sweeps from the current solution. Stops after `maxSweeps`, or earlier once the a-posteriori
@@ -159,14 +296,7 @@ void gatherSweeps(const PatchMesh& mesh, const SolveSettings& settings, Hemicube
         gatherer.setElementRadiance(radiance);
         gatherer.gather(points, settings.lighting.skyRadiance, std::uint64_t(sweep) + 1, eOverPi);
         double change = 0.0, total = 0.0;
-        for (std::size_t e = 0; e < el.size(); ++e) {
-            const glm::dvec3 irradiance = M_PI * eOverPi[e] + light.rayTraced[e];
-            const glm::dvec3 b = M_PI * glm::dvec3(el.emittedRadiance[e]) + glm::dvec3(el.reflectance[e]) * irradiance;
-            change += channelSum(glm::abs(b - solution.displayRadiosity(mesh, e))) * el.areaM2[e];
-            total += channelSum(b) * el.areaM2[e];
-            solution.irradiance[e] = irradiance;
-            solution.radiosity[e] = b;
-        }
+        for (std::size_t e = 0; e < el.size(); ++e) takeGathered(mesh, light, e, eOverPi[e], solution, change, total);
         solution.ambientIrradiance.clear();  // the gather has taken it in
         report.hemicubes += points.size();
         ++report.gatherSweeps;
@@ -195,9 +325,10 @@ SolveReport solveRadiosity(const Scene& scene, const PatchMesh& mesh, const Solv
     report.directSeconds = clock.seconds();
 
     const SolverKind kind = settings.solver.kind;
+    std::vector<float> maxReceivedFormFactor;
     if (kind == SolverKind::Shoot || kind == SolverKind::Hybrid) {
         const double t0 = clock.seconds();
-        shootToBound(mesh, settings, pool, light, t0, solution, report, progress);
+        shootToBound(mesh, settings, pool, light, t0, solution, report, progress, maxReceivedFormFactor);
         report.shootSeconds = clock.seconds() - t0;
     } else {
         for (std::size_t e = 0; e < el.size(); ++e) {
@@ -218,6 +349,12 @@ SolveReport solveRadiosity(const Scene& scene, const PatchMesh& mesh, const Solv
 
     for (std::size_t e = 0; e < el.size(); ++e)
         report.absorbedPowerW += (glm::dvec3(1.0) - glm::dvec3(el.reflectance[e])) * solution.irradiance[e] * el.areaM2[e];
+    // After the ledger: it is the power the solve moved; the replaced values are what those elements show.
+    if (!maxReceivedFormFactor.empty() && report.gatherSweeps == 0) {
+        const double t2 = clock.seconds();
+        replaceImplausibleReceivers(mesh, settings, pool, light, maxReceivedFormFactor, solution, report);
+        report.gatherSeconds += clock.seconds() - t2;
+    }
     return report;
 }
 
