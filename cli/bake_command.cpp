@@ -33,6 +33,7 @@ struct BakeOptions {
     bool noAmbient = false;
     bool separateSides = false;
     bool noSolidCuts = false;
+    std::optional<double> gapCutFraction;
     bool noPreview = false;
     int threads = 0;
     std::uint64_t seed = 1;
@@ -81,6 +82,7 @@ BakeSettings resolveSettings(const BakeOptions& o, double sceneDiagonalM) {
     solver.ambientCorrection = !o.noAmbient;
     s.solve.sides.enabled = o.separateSides;
     if (o.noSolidCuts) s.solve.subdivision.cutAlongSolids = false;
+    override(o.gapCutFraction, s.solve.subdivision.gapCutFraction);
     solver.threads = o.threads;
     solver.seed = o.seed;
     if (o.sky.size() == 3) lighting.skyRadiance = glm::vec3(o.sky[0], o.sky[1], o.sky[2]);
@@ -195,6 +197,11 @@ CommandRunner addBakeCommand(CLI::App& app) {
     cmd->add_flag("--no-solid-cuts", o->noSolidCuts,
                   "Do not cut faces where closed solids cross them (a wall standing in a floor slab): by default the buried "
                   "parts are dropped and no patch or element runs under a wall into the next room (issue 15)");
+    cmd->add_option("--gap-cut-fraction", o->gapCutFraction,
+                    "Also cut faces along the outline of a solid hanging in front of them closer than this × the element "
+                    "size (a light panel 5 cm under a ceiling: its trapped light gets elements of its own); default 0.125, "
+                    "0 = off")
+        ->check(CLI::Range(0.0, 1.0));
     cmd->add_flag("--separate-sides", o->separateSides,
                   "Experimental: bisect elements that straddle a wall standing on their face (a slab under two rooms) "
                   "and split patches by side, so no light crosses the wall's footprint (issue 15: costly on levels)");

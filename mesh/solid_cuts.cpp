@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <tuple>
 
@@ -290,7 +291,7 @@ double SolidSet::windingNumber(std::size_t s, const glm::dvec3& p) const {
 }
 
 SurfaceMesh cutAlongSolids(const SurfaceMesh& mesh, std::size_t instance, const SolidSet& solids, bool doubleSided,
-                           SolidCutStats* stats, std::vector<int>* fromFace) {
+                           double gapM, SolidCutStats* stats, std::vector<int>* fromFace) {
     const double tol = solids.toleranceM();
     SolidCutStats local;
 
@@ -310,6 +311,7 @@ SurfaceMesh cutAlongSolids(const SurfaceMesh& mesh, std::size_t instance, const 
     std::vector<std::size_t> candidates;
     // Cut lines of one triangle: a solid's plane and where its triangles in that plane meet the triangle's plane.
     std::map<std::uint64_t, std::vector<std::array<glm::dvec3, 2>>> lines;
+    std::map<std::uint64_t, glm::dvec4> linePlanes;  // the plane each line cuts along
     std::vector<Piece> pieces, next;
     for (auto f : mesh.faces()) {
         std::array<int, 3> ids{};
@@ -322,7 +324,9 @@ SurfaceMesh cutAlongSolids(const SurfaceMesh& mesh, std::size_t instance, const 
         }
         const glm::dvec4 planeT = planeOf(p);
         candidates.clear();
-        solids.overlapping(glm::min(p[0], glm::min(p[1], p[2])), glm::max(p[0], glm::max(p[1], p[2])), candidates);
+        const double reachM = std::max(gapM, 0.0);
+        solids.overlapping(glm::min(p[0], glm::min(p[1], p[2])) - reachM, glm::max(p[0], glm::max(p[1], p[2])) + reachM,
+                           candidates);
         candidates.erase(std::remove_if(candidates.begin(), candidates.end(),
                                         [&](std::size_t s) {
                                             const SolidSet::Solid& solid = solids.solids()[s];
@@ -335,17 +339,53 @@ SurfaceMesh cutAlongSolids(const SurfaceMesh& mesh, std::size_t instance, const 
             continue;
         }
         lines.clear();
-        const glm::dvec3 tLo = glm::min(p[0], glm::min(p[1], p[2])) - tol, tHi = glm::max(p[0], glm::max(p[1], p[2])) + tol;
+        linePlanes.clear();
+        const glm::dvec3 normalT(planeT);
+        const double lift = 16.0 * tol;
+        bool gapCut = false;
         for (std::size_t s : candidates) {
             const SolidSet::Solid& solid = solids.solids()[s];
+            // Where the solid lies along the face's normal: crossing its plane, or wholly in front of (behind) it.
+            double dMin = std::numeric_limits<double>::infinity(), dMax = -dMin;
+            for (const auto& st : solid.triangles)
+                for (const glm::dvec3& q : st) {
+                    const double d = glm::dot(normalT, q) + planeT.w;
+                    dMin = std::min(dMin, d);
+                    dMax = std::max(dMax, d);
+                }
+            // A solid hanging within gapM of the face (a light panel under a ceiling): cut along the outline it
+            // casts straight onto the face, found where its surface crosses a copy of the face's plane moved into
+            // it, and keep both sides. The gap's light then lands on elements of its own.
+            double shiftM = 0.0;
+            if (dMin > lift && dMin <= gapM) shiftM = dMin + 0.5 * (std::min(dMax, dMin + gapM) - dMin);
+            else if (doubleSided && dMax < -lift && dMax >= -gapM) shiftM = dMax - 0.5 * (dMax - std::max(dMin, dMax - gapM));
+            std::array<glm::dvec3, 3> shifted = p;
+            for (glm::dvec3& q : shifted) q += shiftM * normalT;
+            const glm::dvec4 shiftedPlane(normalT, planeT.w - shiftM);
+            const glm::dvec3 tLo = glm::min(shifted[0], glm::min(shifted[1], shifted[2])) - tol,
+                             tHi = glm::max(shifted[0], glm::max(shifted[1], shifted[2])) + tol;
             for (std::size_t t = 0; t < solid.triangles.size(); ++t) {
                 const auto& st = solid.triangles[t];
                 const std::size_t plane = solid.planeOfTriangle[t];
                 const glm::dvec3 sLo = glm::min(st[0], glm::min(st[1], st[2])), sHi = glm::max(st[0], glm::max(st[1], st[2]));
                 if (glm::any(glm::lessThan(sHi, tLo)) || glm::any(glm::greaterThan(sLo, tHi))) continue;
                 std::array<glm::dvec3, 2> segment;
-                if (!crosses(p, planeT, st, solid.planes[plane], tol, segment)) continue;
-                lines[(std::uint64_t(s) << 32) | std::uint64_t(plane)].push_back(segment);
+                if (!crosses(shifted, shiftedPlane, st, solid.planes[plane], tol, segment)) continue;
+                const std::uint64_t key = (std::uint64_t(s) << 32) | std::uint64_t(plane);
+                glm::dvec4 cut = solid.planes[plane];
+                if (shiftM != 0.0) {
+                    // The plane through the cast outline, square to the face: the solid's plane tilted upright.
+                    const glm::dvec3 n(cut);
+                    const glm::dvec3 upright = n - glm::dot(n, normalT) * normalT;
+                    const double length = glm::length(upright);
+                    if (!(length > 1e-6)) continue;  // parallel to the face: casts no outline
+                    const glm::dvec3 onFace = 0.5 * (segment[0] + segment[1]) - shiftM * normalT;
+                    cut = glm::dvec4(upright / length, -glm::dot(upright / length, onFace));
+                    for (glm::dvec3& q : segment) q -= shiftM * normalT;
+                    gapCut = true;
+                }
+                lines[key].push_back(segment);
+                linePlanes[key] = cut;
             }
         }
 
@@ -392,7 +432,6 @@ SurfaceMesh cutAlongSolids(const SurfaceMesh& mesh, std::size_t instance, const 
         // Whether a segment of the line runs through the piece's interior (Cyrus–Beck against its edges, pieces
         // being convex and wound as the triangle): a piece the solid's surface does not enter needs no cut, which
         // keeps cuts where the solid is instead of across the whole triangle.
-        const glm::dvec3 normalT(planeT);
         auto entered = [&](const Piece& piece, const std::vector<std::array<glm::dvec3, 2>>& segments) {
             for (const auto& [a, b] : segments) {
                 double t0 = 0.0, t1 = 1.0;
@@ -411,7 +450,7 @@ SurfaceMesh cutAlongSolids(const SurfaceMesh& mesh, std::size_t instance, const 
             return false;
         };
         for (const auto& [line, segments] : lines) {
-            const glm::dvec4 plane = solids.solids()[std::size_t(line >> 32)].planes[std::size_t(line & 0xffffffffu)];
+            const glm::dvec4 plane = linePlanes.at(line);
             next.clear();
             for (Piece& piece : pieces) {
                 std::vector<double> d(piece.size());
@@ -444,7 +483,6 @@ SurfaceMesh cutAlongSolids(const SurfaceMesh& mesh, std::size_t instance, const 
 
         // Keep a piece unless a point just off its front (and, double-sided, its back) is inside a solid.
         const glm::dvec3& normal = normalT;
-        const double lift = 16.0 * tol;
         auto covered = [&](const glm::dvec3& q) {
             for (std::size_t s : candidates) {
                 const SolidSet::Solid& solid = solids.solids()[s];
@@ -471,6 +509,7 @@ SurfaceMesh cutAlongSolids(const SurfaceMesh& mesh, std::size_t instance, const 
             continue;
         }
         ++local.facesCut;
+        if (gapCut) ++local.facesCutAtGaps;
         local.piecesDropped += pieces.size() - keep.size();
         if (keep.empty()) ++local.facesDropped;
 

@@ -18,6 +18,10 @@
 // floor covers the block's bottom (both dropped), while two coplanar faces looking the same way both stay.
 // Double-sided faces are dropped only when both sides are covered. A face is never cut by its own solid.
 //
+// Gap cuts: a solid wholly in front of a face and nearer than the gap distance (its nearest point) cuts the face
+// along the outline it casts along the face's normal: the planes of its triangles that cross a copy of the face's
+// plane moved into the solid, stood upright on the face. Nothing is dropped there.
+//
 // New vertices on an input edge are computed from that edge's end points and keyed by (edge, plane), so the two
 // triangles sharing the edge get the same vertex; cut lines run across the whole triangle and may end on an edge
 // the neighbour does not cut (a T-vertex, which mesh/subdivision's boundary conforming splits).
@@ -77,10 +81,12 @@ private:
 };
 
 // A mesh of instance `instance` (its input mesh, or that mesh bisected) cut along the solids that cross its faces,
-// buried parts dropped (see above). Faces no solid crosses are copied unchanged; pieces keep their face's material,
+// buried parts dropped (see above), and along the outline a solid within `gapM` in front of a face casts straight
+// onto it (both sides kept: a light panel hung 5 cm under a ceiling, whose trapped light would otherwise be averaged
+// with the open ceiling around it; 0 = no gap cuts). Faces no solid crosses are copied unchanged; pieces keep their face's material,
 // instance and source face, and their vertices interpolate normals and both UV sets. `fromFace`, when given, gets
 // each output face's input face index. Thread-safe for different meshes; never throws on geometry.
 SurfaceMesh cutAlongSolids(const SurfaceMesh& mesh, std::size_t instance, const SolidSet& solids, bool doubleSided,
-                           SolidCutStats* stats = nullptr, std::vector<int>* fromFace = nullptr);
+                           double gapM = 0.0, SolidCutStats* stats = nullptr, std::vector<int>* fromFace = nullptr);
 
 }  // namespace hemibake

@@ -88,7 +88,8 @@ private:
 // Patches are the faces of the mesh bisected to the patch size; where solids cut a face (solids given), each
 // connected group of its kept pieces is one patch, so a patch never spans a wall while its pieces stay together.
 RefinedInstance refine(const MeshInstance& instance, std::size_t instanceIndex, const SolidSet* solids, bool doubleSided,
-                       double patchSizeM, double elementSizeM, const RefinementLookup& lookup, SolidCutStats& cutStats) {
+                       double patchSizeM, double elementSizeM, double gapM, const RefinementLookup& lookup,
+                       SolidCutStats& cutStats) {
     RefinedInstance r;
     r.mesh = instance.mesh;
     bisectLongEdges(r.mesh, patchSizeM);
@@ -97,7 +98,7 @@ RefinedInstance refine(const MeshInstance& instance, std::size_t instanceIndex, 
     r.patchCount = int(r.mesh.n_faces());
     if (solids) {
         std::vector<int> fromFace;
-        r.mesh = cutAlongSolids(r.mesh, instanceIndex, *solids, doubleSided, &cutStats, &fromFace);
+        r.mesh = cutAlongSolids(r.mesh, instanceIndex, *solids, doubleSided, gapM, &cutStats, &fromFace);
         // Pieces of one patch face that share a vertex are one patch (pieces on two sides of a wall never do).
         UnionFind groups(r.mesh.n_faces());
         std::map<std::pair<int, int>, std::uint32_t> faceAtVertex;
@@ -296,7 +297,8 @@ PatchMesh subdivide(const Scene& scene, const SubdivisionSettings& settings, con
         const double patchSize = material.isEmissive() ? std::min(settings.patchSizeM, emitterPatchSize(settings))
                                                        : settings.patchSizeM;
         refined[i] = refine(instance, i, solids && solids->size() > 0 ? &*solids : nullptr, material.doubleSided,
-                            patchSize, settings.elementSizeM, lookup, cutStats[i]);
+                            patchSize, settings.elementSizeM, settings.elementSizeM * std::max(settings.gapCutFraction, 0.0),
+                            lookup, cutStats[i]);
     });
     for (const SolidCutStats& c : cutStats) out.solidCuts += c;
     out.solidCuts.solids = solids ? solids->size() : 0;

@@ -384,6 +384,18 @@ void HemicubeRenderer::renderFormFactors(const HemicubeFrame& frame, FormFactorL
     if (nearest > 0.0f) out.minDepthM = nearPlaneM_ / static_cast<double>(nearest);
 }
 
+double HemicubeRenderer::formFactorNearerThan(double distanceM) const {
+    if (!(distanceM > 0.0)) return 0.0;
+    // Hit distance = near × ray length / depth (see renderFormFactors): nearer than d ⇔ depth/ray length > near/d.
+    const float threshold = static_cast<float>(nearPlaneM_ / distanceM);
+    const std::span<const double> weights = weights_.weights();
+    const std::span<const float> rayLength = weights_.rayLengthPerDepth();
+    double near = 0.0;
+    for (std::size_t i = 0; i < ids_.size(); ++i)
+        if (ids_[i] != kSkyId && depths_[i] > threshold * rayLength[i]) near += weights[i];
+    return near;
+}
+
 void HemicubeRenderer::readRadiance() {
     const GlFunctions& gl = scene_->context().gl();
     gl.ReadBuffer(GL_COLOR_ATTACHMENT1);

@@ -100,6 +100,9 @@ public:
 
     // Item buffer → form factors. `out` is cleared first; no allocation once its capacity has warmed up.
     void renderFormFactors(const HemicubeFrame& frame, FormFactorList& out);
+    // The form factor (cosine-weighted share of the hemisphere) of whatever the last renderFormFactors hit nearer
+    // than `distanceM` to the eye: ≈ 1 for a surface a few cm in front of it, ≈ 0.1 beside a wall 10 cm away.
+    double formFactorNearerThan(double distanceM) const;
     // Radiance buffer (element radiance from SceneBuffers::setElementRadiance, plus its TexelLight if set) → E/π,
     // in double.
     RadianceGather gatherRadiance(const HemicubeFrame& frame, glm::vec3 skyRadiance);

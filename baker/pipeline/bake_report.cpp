@@ -103,6 +103,7 @@ nlohmann::json BakeReport::toJson() const {
                   {"unshotW", vec(solve.unshotPowerW)}};
     j["solidCuts"] = {{"solids", solidCuts.solids},
                       {"facesCut", solidCuts.facesCut},
+                      {"facesCutAtGaps", solidCuts.facesCutAtGaps},
                       {"facesDropped", solidCuts.facesDropped},
                       {"piecesDropped", solidCuts.piecesDropped},
                       {"areaDroppedM2", solidCuts.areaDroppedM2}};

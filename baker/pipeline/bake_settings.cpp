@@ -30,6 +30,7 @@ void visitKnobs(BakeSettings& s, Visitor&& v) {
     v("elementSizeM", sub.elementSizeM);
     v("emitterPatchSizeM", sub.emitterPatchSizeM);
     v("cutAlongSolids", sub.cutAlongSolids);
+    v("gapCutFraction", sub.gapCutFraction);
     v("exposureSamplesPerSide", ex.samplesPerSide);
     v("exposureScreenSamplesPerSide", ex.screenSamplesPerSide);
     v("exposureRayStrata", ex.rayStrata);

@@ -14,4 +14,12 @@ bool FormFactorCache::store(std::uint32_t slot, FormFactorRow& row) {
     return true;
 }
 
+bool FormFactorCache::replace(std::uint32_t slot, FormFactorRow& row) {
+    if (rows_[slot]) {
+        used_.fetch_sub(rows_[slot]->bytes(), std::memory_order_relaxed);
+        rows_[slot].reset();
+    }
+    return store(slot, row);
+}
+
 }  // namespace hemibake

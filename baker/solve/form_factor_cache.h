@@ -33,6 +33,9 @@ public:
     // Moves `row` into the cache when it fits the budget and returns true; otherwise returns false and leaves `row`
     // as it was (the caller shoots with it). Thread-safe for different slots.
     bool store(std::uint32_t slot, FormFactorRow& row);
+    // As store, but the slot's previous row (if any) is released first; when `row` does not fit, the slot is left
+    // empty. Invalidates pointers to the previous row. Thread-safe for different slots.
+    bool replace(std::uint32_t slot, FormFactorRow& row);
 
     std::size_t bytesUsed() const { return used_.load(std::memory_order_relaxed); }
     std::uint64_t hits() const { return hits_.load(std::memory_order_relaxed); }

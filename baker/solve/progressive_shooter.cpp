@@ -11,6 +11,7 @@
 
 #include "baker/util/colour.h"
 #include "baker/util/stopwatch.h"
+#include "mesh/triangle_sampling.h"
 #include "raster/hemicube.h"
 #include "raster/hemicube_pool.h"
 
@@ -21,6 +22,19 @@ namespace {
 // Enough sample points to integrate the form factor over a patch near a receiver (GROUND_TRUTH §3.4: 4×4
 // points take hinged squares from −4.8 % to ≈ 0.1 %), few enough that one shot stays cheap.
 constexpr std::uint32_t kMaxSamplesPerPatch = 16;
+// An element faces a tight gap when more than kTightCover of its centroid's hemisphere (cosine-weighted) hits
+// surfaces nearer than kTightFraction × its size (√(2·area)); it then shoots from kTightSamplesPerSide² points over
+// its triangle instead. A panel 5 cm under a 1.75 m ceiling element covers ≈ 0.95 within 0.22 m; a floor element
+// beside a wall or a sunk crate (the slivers solid cuts leave along them) ≈ 0.1–0.3, and stays one hemicube.
+constexpr double kTightFraction = 1.0 / 8.0;
+constexpr double kTightCover = 0.5;
+constexpr int kTightSamplesPerSide = 4;
+
+// Whether the renderer's last form-factor render, from an element or patch of this size, faced a tight gap.
+bool facesTightGap(const HemicubeRenderer& renderer, const FormFactorList& list, double sizeM) {
+    const double nearM = kTightFraction * sizeM;
+    return list.minDepthM < nearM && renderer.formFactorNearerThan(nearM) > kTightCover;
+}
 
 }  // namespace
 
@@ -33,10 +47,11 @@ struct ProgressiveShooter::Shot {
     const FormFactorRow* row = nullptr;
     std::uint32_t hemicubesRendered = 0;
     std::uint64_t seed = 0;
-    // Unshot light lying unevenly over the patch: shot through its light-picked row (`picks` when that row is
-    // still to be rendered).
+    // Unshot light lying unevenly over the patch: shot from the elements `picks` (element, share of the light),
+    // each through its own row (`elementRows[k]` when the cache has no room for it).
     bool uneven = false;
     std::vector<std::pair<std::uint32_t, double>> picks;
+    std::vector<FormFactorRow> elementRows;
 };
 
 // Per-thread scratch for merging several hemicubes' form factors: a dense accumulator and the ids it touched.
@@ -44,14 +59,41 @@ struct ProgressiveShooter::MergeScratch {
     FormFactorList list;
     std::vector<double> dense;
     std::vector<std::uint32_t> touched;
+
+    // Starts a merge into `row` (emptied) over a mesh of `elementCount` elements.
+    void begin(std::size_t elementCount, FormFactorRow& row) {
+        if (dense.size() != elementCount) dense.assign(elementCount, 0.0);
+        touched.clear();
+        row.elements.clear();
+        row.formFactors.clear();
+        row.skyFraction = row.backfaceFraction = 0.0;
+        row.hemicubes = 0;
+    }
+    // Adds weight × form factors (one per id) to the merge.
+    template <class FormFactors>
+    void add(const std::vector<std::uint32_t>& ids, const FormFactors& formFactors, double weight) {
+        for (std::size_t i = 0; i < ids.size(); ++i) {
+            const std::uint32_t j = ids[i];
+            if (dense[j] == 0.0) touched.push_back(j);
+            dense[j] += weight * double(formFactors[i]);
+        }
+    }
+    // Writes the merged form factors × norm into `row` and clears the accumulator.
+    void finish(double norm, FormFactorRow& row) {
+        for (std::uint32_t j : touched) {
+            row.elements.push_back(j);
+            row.formFactors.push_back(float(dense[j] * norm));
+            dense[j] = 0.0;
+        }
+    }
 };
 
 ProgressiveShooter::ProgressiveShooter(const PatchMesh& mesh, RadiositySolution& solution, HemicubePool& pool,
                                        const SolverSettings& settings)
     : mesh_(mesh), solution_(solution), pool_(pool), settings_(settings), queue_(mesh.patches.size()),
       scratch_(std::make_unique<tbb::enumerable_thread_specific<MergeScratch>>()),
-      // Slots: each patch's even row, then its light-picked row (pickedSlot).
-      cache_(std::make_unique<FormFactorCache>(2 * mesh.patches.size(),
+      // Slots: each patch's row, each element's own row (elementSlot), each patch's last uneven row (unevenSlot).
+      cache_(std::make_unique<FormFactorCache>(2 * mesh.patches.size() + mesh.elements.size(),
                                                std::size_t(settings.formFactorCacheMiB * 1048576.0))) {
     shotOnce_.assign(mesh.patches.size(), false);
     unshotW_.assign(mesh.elements.size(), 0.0);
@@ -96,17 +138,57 @@ void ProgressiveShooter::injectIrradiance(const std::vector<glm::dvec3>& irradia
 }
 
 void ProgressiveShooter::renderShot(std::uint32_t patch, Shot& shot) const {
-    const std::uint32_t slot = shot.uneven ? pickedSlot(patch) : patch;
-    if (const FormFactorRow* cached = cache_->find(slot)) {
+    shot.hemicubesRendered = 0;
+    if (shot.uneven) {
+        // Each picked element's row is cached on its own and weighted by the share of the light it holds now: the
+        // picks change from shot to shot (the first shots' hot spot, later the room's even bounce), the rows do not.
+        std::vector<std::pair<const FormFactorRow*, double>> rows;
+        shot.elementRows.resize(shot.picks.size());
+        for (std::size_t k = 0; k < shot.picks.size(); ++k) {
+            const auto [e, share] = shot.picks[k];
+            const FormFactorRow* row = cache_->find(elementSlot(e));
+            if (row) {
+                cache_->countHit();
+            } else {
+                FormFactorRow& own = shot.elementRows[k];
+                // Rotated by the element, not the shot: the row is the same whenever the element is first picked.
+                renderPickedRow({{e, 1.0}}, settings_.seed * 0x9E3779B97F4A7C15ull + e, own, 2654435761u);
+                shot.hemicubesRendered += own.hemicubes;
+                row = cache_->store(elementSlot(e), own) ? cache_->find(elementSlot(e)) : &own;
+            }
+            rows.emplace_back(row, share);
+        }
+        mergeRows(rows, shot.own);
+        // Kept for the local bound, which predicts the next uneven shot by this one (merging every uneven patch's
+        // rows for each bound would cost 16 rows per patch per round).
+        shot.row = cache_->replace(unevenSlot(patch), shot.own) ? cache_->find(unevenSlot(patch)) : &shot.own;
+        return;
+    }
+    if (const FormFactorRow* cached = cache_->find(patch)) {
         shot.row = cached;
-        shot.hemicubesRendered = 0;
         cache_->countHit();
         return;
     }
-    if (shot.uneven) renderPickedRow(shot.picks, shot.seed, shot.own, 2654435761u);
-    else renderRow(patch, shot.seed, shot.own);
+    renderRow(patch, shot.seed, shot.own);
     shot.hemicubesRendered = shot.own.hemicubes;
-    shot.row = cache_->store(slot, shot.own) ? cache_->find(slot) : &shot.own;
+    shot.row = cache_->store(patch, shot.own) ? cache_->find(patch) : &shot.own;
+}
+
+void ProgressiveShooter::mergeRows(const std::vector<std::pair<const FormFactorRow*, double>>& rows,
+                                   FormFactorRow& merged) const {
+    MergeScratch& scratch = scratch_->local();
+    scratch.begin(mesh_.elements.size(), merged);
+    double weights = 0.0;
+    for (const auto& [row, w] : rows) weights += w;
+    const double norm = weights > 0.0 ? 1.0 / weights : 0.0;
+    for (const auto& [row, w] : rows) {
+        const double weight = w * norm;
+        scratch.add(row->elements, row->formFactors, weight);
+        merged.skyFraction += weight * row->skyFraction;
+        merged.backfaceFraction += weight * row->backfaceFraction;
+        merged.hemicubes += row->hemicubes;
+    }
+    scratch.finish(1.0, merged);
 }
 
 void ProgressiveShooter::renderRow(std::uint32_t patch, std::uint64_t seed, FormFactorRow& row) const {
@@ -120,6 +202,12 @@ void ProgressiveShooter::renderRow(std::uint32_t patch, std::uint64_t seed, Form
     row.hemicubes = 1;
     const double patchSizeM = std::sqrt(2.0 * pa.areaM2[patch]);
     const std::uint32_t count = pa.elementCount[patch];
+    const std::uint32_t first = pa.firstElement[patch];
+    if (count <= 1 && facesTightGap(renderer, scratch.list, patchSizeM)) {
+        // A one-element patch facing a surface in a tight gap (a light panel's top under the ceiling).
+        renderPickedRow({{first, 1.0}}, seed, row, 1315423911u);
+        return;
+    }
     if (count <= 1 || !(scratch.list.minDepthM < settings_.proximityFactor * patchSizeM)) {
         row.elements.assign(scratch.list.elements.begin(), scratch.list.elements.end());
         row.formFactors.assign(scratch.list.formFactors.begin(), scratch.list.formFactors.end());
@@ -131,7 +219,6 @@ void ProgressiveShooter::renderRow(std::uint32_t patch, std::uint64_t seed, Form
     // Proximity: something is close relative to the patch, so one centred hemicube misrepresents the patch.
     // Integrate over the patch with one hemicube per (a spread subset of) its elements, area-weighted.
     const std::uint32_t samples = std::min(count, kMaxSamplesPerPatch);
-    const std::uint32_t first = pa.firstElement[patch];
     double sampledArea = 0.0;
     for (std::uint32_t s = 0; s < samples; ++s) sampledArea += el.areaM2[first + std::uint64_t(s) * count / samples];
     std::vector<std::pair<std::uint32_t, double>> picks;
@@ -185,7 +272,7 @@ std::vector<std::pair<std::uint32_t, double>> ProgressiveShooter::lightPicks(std
 }
 
 const FormFactorRow* ProgressiveShooter::nextRow(std::uint32_t patch) const {
-    return cache_->find(unevenLight(patch) ? pickedSlot(patch) : patch);
+    return cache_->find(unevenLight(patch) ? unevenSlot(patch) : patch);
 }
 
 void ProgressiveShooter::renderPickedRow(const std::vector<std::pair<std::uint32_t, double>>& picks, std::uint64_t seed,
@@ -193,36 +280,45 @@ void ProgressiveShooter::renderPickedRow(const std::vector<std::pair<std::uint32
     HemicubeRenderer& renderer = pool_.local();
     MergeScratch& scratch = scratch_->local();
     const ElementArrays& el = mesh_.elements;
-    if (scratch.dense.size() != el.size()) scratch.dense.assign(el.size(), 0.0);
-    scratch.touched.clear();
-    row.elements.clear();
-    row.formFactors.clear();
-    row.skyFraction = row.backfaceFraction = 0.0;
-    row.hemicubes = 0;
+    scratch.begin(el.size(), row);
     double weights = 0.0;
     for (std::size_t k = 0; k < picks.size(); ++k) {
         const auto [e, w] = picks[k];
         weights += w;
-        const HemicubeFrame frame = HemicubeFrame::randomlyRotated(el.centroid[e], glm::dvec3(el.normal[e]), seed * rotationStream + k);
-        renderer.renderFormFactors(frame, scratch.list);
-        ++row.hemicubes;
-        for (std::size_t i = 0; i < scratch.list.size(); ++i) {
-            const std::uint32_t j = scratch.list.elements[i];
-            if (scratch.dense[j] == 0.0) scratch.touched.push_back(j);
-            scratch.dense[j] += w * scratch.list.formFactors[i];
+        const glm::dvec3 normal(el.normal[e]);
+        const std::uint64_t rotation = seed * rotationStream + k;
+        auto add = [&](double weight) {
+            ++row.hemicubes;
+            scratch.add(scratch.list.elements, scratch.list.formFactors, weight);
+            row.skyFraction += weight * scratch.list.skyFraction;
+            row.backfaceFraction += weight * scratch.list.backfaceFraction;
+        };
+        renderer.renderFormFactors(HemicubeFrame::randomlyRotated(el.centroid[e], normal, rotation), scratch.list);
+        const double elementSizeM = std::sqrt(2.0 * el.areaM2[e]);
+        const double wholeArea = triangleArea(el, e);
+        if (el.areaM2[e] < wholeArea * (1.0 - 1e-6) || !facesTightGap(renderer, scratch.list, elementSizeM)) {
+            add(w);
+            continue;
         }
-        row.skyFraction += w * scratch.list.skyFraction;
-        row.backfaceFraction += w * scratch.list.backfaceFraction;
+        // A surface in a tight gap in front of the element: from its centroid it hides nearly the whole hemisphere,
+        // from points near the element's rim much less (a panel 5 cm under a ceiling: 0.97 at the centre, 0.87 over
+        // the element). Integrate over the element instead, at its k × k sub-triangles' centroids. Trimmed elements
+        // keep the centroid: parts of their triangle lie under what covers them.
+        const auto& tri = el.triangles[e];
+        const glm::dvec3 a = el.vertices[tri[0]], b = el.vertices[tri[1]], c = el.vertices[tri[2]];
+        int point = 0;
+        forEachSubTriangleCentroid(kTightSamplesPerSide, [&](double wa, double wb) {
+            const glm::dvec3 p = wa * a + wb * b + (1.0 - wa - wb) * c;
+            renderer.renderFormFactors(HemicubeFrame::randomlyRotated(p, normal, rotation * 31u + std::uint64_t(point++)),
+                                       scratch.list);
+            add(w / double(kTightSamplesPerSide * kTightSamplesPerSide));
+        });
     }
     // The weights sum to 1 up to rounding: normalise so the row shoots exactly the power given.
     const double norm = weights > 0.0 ? 1.0 / weights : 0.0;
     row.skyFraction *= norm;
     row.backfaceFraction *= norm;
-    for (std::uint32_t j : scratch.touched) {
-        row.elements.push_back(j);
-        row.formFactors.push_back(float(scratch.dense[j] * norm));
-        scratch.dense[j] = 0.0;
-    }
+    scratch.finish(norm, row);
 }
 
 void ProgressiveShooter::applyShot(const Shot& shot) {
@@ -305,7 +401,7 @@ ProgressiveShooter::LocalBound ProgressiveShooter::localBound(double epsilon) co
         const double deltaB = channelSum(solution_.unshotRadiosity[p]);
         if (!(deltaB > 0.0)) continue;
         unshot.push_back(p);
-        if (!nextRow(p) && shotOnce_[p]) unknownRadiosity += deltaB;
+        if (shotOnce_[p] && !nextRow(p)) unknownRadiosity += deltaB;
     }
     // Only elements that have received light take that bound: an uncached patch has shot once already, and an
     // element it never reached is not held open by it (else a sealed dark room would never converge).
@@ -387,11 +483,10 @@ void ProgressiveShooter::shoot(const std::vector<std::uint32_t>& patches, std::v
             shots[picked].patch = p;
             shots[picked].deltaRadiosity = solution_.unshotRadiosity[p];
             shots[picked].seed = ++shotSeed;
-            // Light that lies unevenly over the patch goes from where it landed: through the row picked by the
-            // light of its first such shot (the hot spot stays where it is), rendered now if it is not cached.
+            // Light that lies unevenly over the patch goes from where it landed (the hot spot stays where it is).
             shots[picked].uneven = unevenLight(p);
             shots[picked].picks.clear();
-            if (shots[picked].uneven && !cache_->find(pickedSlot(p))) shots[picked].picks = lightPicks(p);
+            if (shots[picked].uneven) shots[picked].picks = lightPicks(p);
             for (std::uint32_t e = mesh_.patches.firstElement[p], n = 0; n < mesh_.patches.elementCount[p]; ++n) unshotW_[e + n] = 0.0;
             solution_.unshotRadiosity[p] = glm::dvec3(0.0);
             queue_.set(p, 0.0);

@@ -95,9 +95,17 @@ private:
     // hemicube k is rotated by seed × rotationStream + k (proximity and uneven rows draw different streams).
     void renderPickedRow(const std::vector<std::pair<std::uint32_t, double>>& picks, std::uint64_t seed,
                          FormFactorRow& row, std::uint64_t rotationStream) const;
-    // The cached row `patch`'s next shot would use (its light-picked row when its light lies unevenly), or null.
+    // The cached row that predicts `patch`'s next shot: its row, or, its light lying unevenly, the row of its last
+    // uneven shot (the next one re-weights the same elements by the light they hold then); null if none.
     const FormFactorRow* nextRow(std::uint32_t patch) const;
-    std::uint32_t pickedSlot(std::uint32_t patch) const { return std::uint32_t(mesh_.patches.size()) + patch; }
+    // `rows` (row, weight) averaged into `merged`, weights normalised to sum 1. Uses this thread's merge scratch.
+    void mergeRows(const std::vector<std::pair<const FormFactorRow*, double>>& rows, FormFactorRow& merged) const;
+    // Cache slot of one element's own row (uneven shots), after the patches' rows.
+    std::uint32_t elementSlot(std::uint32_t element) const { return std::uint32_t(mesh_.patches.size()) + element; }
+    // Cache slot of a patch's last uneven row, after the elements' rows.
+    std::uint32_t unevenSlot(std::uint32_t patch) const {
+        return std::uint32_t(mesh_.patches.size() + mesh_.elements.size()) + patch;
+    }
     // Hands `deltaRadiosity` of `patch` through `row` to the elements it sees (queue updates left to the caller).
     void applyRow(std::uint32_t patch, const FormFactorRow& row, const glm::dvec3& deltaRadiosity);
     void applyShot(const Shot& shot);

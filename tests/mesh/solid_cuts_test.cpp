@@ -33,6 +33,21 @@ double areaInPlane(const SurfaceMesh& m, const glm::dvec3& n, double offset) {
 
 double tolerance(const Scene& s) { return 1e-7 * s.bounds().diagonal(); }
 
+// A face's extent in x and z.
+struct FaceExtent {
+    double lo = 1e9, hi = -1e9, loZ = 1e9, hiZ = -1e9;
+};
+FaceExtent extentXZ(const SurfaceMesh& m, SurfaceMesh::FaceHandle f) {
+    FaceExtent e;
+    for (auto v : m.fv_range(f)) {
+        e.lo = std::min(e.lo, m.point(v)[0]);
+        e.hi = std::max(e.hi, m.point(v)[0]);
+        e.loZ = std::min(e.loZ, m.point(v)[2]);
+        e.hiZ = std::max(e.hiZ, m.point(v)[2]);
+    }
+    return e;
+}
+
 }  // namespace
 
 TEST(SolidCuts, WallThroughASlabSplitsItsTopAndDropsTheBuriedStrip) {
@@ -45,7 +60,7 @@ TEST(SolidCuts, WallThroughASlabSplitsItsTopAndDropsTheBuriedStrip) {
     ASSERT_EQ(solids.size(), 2u);
 
     SolidCutStats stats;
-    const SurfaceMesh slab = cutAlongSolids(scene.instances[0].mesh, 0, solids, false, &stats);
+    const SurfaceMesh slab = cutAlongSolids(scene.instances[0].mesh, 0, solids, false, 0.0, &stats);
     // The top loses exactly the wall's footprint; nothing else of the slab is inside the wall.
     EXPECT_NEAR(areaInPlane(slab, {0, 1, 0}, 0.0), 4.6 * 3.4 - 0.2 * 2.4, 1e-9);
     EXPECT_NEAR(area(scene.instances[0].mesh) - area(slab), 0.2 * 2.4, 1e-9);
@@ -54,19 +69,13 @@ TEST(SolidCuts, WallThroughASlabSplitsItsTopAndDropsTheBuriedStrip) {
     // No piece of the top lies on both sides of the wall, or under it.
     for (auto f : slab.faces()) {
         if (slab.normal(f)[1] < 0.999) continue;
-        double lo = 1e9, hi = -1e9, loZ = 1e9, hiZ = -1e9;
-        for (auto v : slab.fv_range(f)) {
-            lo = std::min(lo, slab.point(v)[0]);
-            hi = std::max(hi, slab.point(v)[0]);
-            loZ = std::min(loZ, slab.point(v)[2]);
-            hiZ = std::max(hiZ, slab.point(v)[2]);
-        }
+        const auto [lo, hi, loZ, hiZ] = extentXZ(slab, f);
         const bool beside = hi <= 2.0 + 1e-9 || lo >= 2.2 - 1e-9 || hiZ <= 0.3 + 1e-9 || loZ >= 2.7 - 1e-9;
         EXPECT_TRUE(beside) << "x " << lo << ".." << hi << " z " << loZ << ".." << hiZ;
     }
 
     // The wall loses its bottom and the 5 cm of its sides inside the slab.
-    const SurfaceMesh wall = cutAlongSolids(scene.instances[1].mesh, 1, solids, false, &stats);
+    const SurfaceMesh wall = cutAlongSolids(scene.instances[1].mesh, 1, solids, false, 0.0, &stats);
     const double buried = 0.2 * 2.4 + 0.05 * (2 * 0.2 + 2 * 2.4);
     EXPECT_NEAR(area(scene.instances[1].mesh) - area(wall), buried, 1e-9);
     EXPECT_NEAR(areaInPlane(wall, {0, -1, 0}, 0.05), 0.0, 1e-12);
@@ -155,7 +164,7 @@ TEST(SolidCuts, GeneratedLevelKeepsNoAreaInsideASolid) {
     SolidCutStats stats;
     double insideM2 = 0.0, keptM2 = 0.0;
     for (std::size_t i = 0; i < scene.instances.size(); ++i) {
-        const SurfaceMesh cut = cutAlongSolids(scene.instances[i].mesh, i, solids, false, &stats);
+        const SurfaceMesh cut = cutAlongSolids(scene.instances[i].mesh, i, solids, false, 0.0, &stats);
         for (auto f : cut.faces()) {
             keptM2 += cut.faceArea(f);
             OpenMesh::Vec3d c(0.0);
@@ -174,4 +183,39 @@ TEST(SolidCuts, GeneratedLevelKeepsNoAreaInsideASolid) {
     EXPECT_GT(stats.areaDroppedM2, 1.0);
     // Slivers a few micrometres wide where two solids' faces nearly coincide can be classified either way.
     EXPECT_LT(insideM2, 1e-6 * keptM2) << "of " << keptM2 << " m²";
+}
+
+// A panel hanging 5 cm under a ceiling slab: within the gap distance its outline is cut into the ceiling's
+// underside (nothing dropped, the area exact, no piece both over the gap and beside it); beyond it nothing is cut.
+TEST(SolidCuts, PanelUnderACeilingCutsItsOutlineIntoTheCeiling) {
+    SceneBuilder b("panel under a ceiling");
+    const int grey = b.addMaterial(glm::vec3(0.5f));
+    addSolidBox(b, {-0.2, 3.0, -0.2}, {4.2, 3.2, 4.2}, grey, "ceiling slab");
+    addSolidBox(b, {1.4, 2.9, 1.7}, {2.6, 2.95, 2.3}, grey, "panel");
+    const Scene scene = b.build();
+    const SolidSet solids(scene, tolerance(scene));
+    ASSERT_EQ(solids.size(), 2u);
+
+    SolidCutStats stats;
+    const SurfaceMesh ceiling = cutAlongSolids(scene.instances[0].mesh, 0, solids, false, 0.1, &stats);
+    EXPECT_GT(stats.facesCutAtGaps, 0u);
+    EXPECT_EQ(stats.facesDropped, 0u);
+    EXPECT_EQ(stats.piecesDropped, 0u);
+    EXPECT_NEAR(area(ceiling), area(scene.instances[0].mesh), 1e-9);
+    double overGapM2 = 0.0;
+    for (auto f : ceiling.faces()) {
+        if (ceiling.normal(f)[1] > -0.999) continue;
+        const auto [lo, hi, loZ, hiZ] = extentXZ(ceiling, f);
+        const bool over = lo >= 1.4 - 1e-9 && hi <= 2.6 + 1e-9 && loZ >= 1.7 - 1e-9 && hiZ <= 2.3 + 1e-9;
+        const bool beside = hi <= 1.4 + 1e-9 || lo >= 2.6 - 1e-9 || hiZ <= 1.7 + 1e-9 || loZ >= 2.3 - 1e-9;
+        EXPECT_TRUE(over || beside) << "x " << lo << ".." << hi << " z " << loZ << ".." << hiZ;
+        if (over) overGapM2 += ceiling.faceArea(f);
+    }
+    EXPECT_NEAR(overGapM2, 1.2 * 0.6, 1e-9);  // the panel's footprint, exactly
+
+    // A gap distance under 5 cm: the panel is too far to cut anything.
+    SolidCutStats far;
+    const SurfaceMesh uncut = cutAlongSolids(scene.instances[0].mesh, 0, solids, false, 0.04, &far);
+    EXPECT_EQ(far.facesCutAtGaps, 0u);
+    EXPECT_EQ(uncut.n_faces(), scene.instances[0].mesh.n_faces());
 }

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include "baker/solve/form_factor_cache.h"
 #include "mesh/scene_builder.h"
 #include "support/solver_fixture.h"
 
@@ -130,9 +131,34 @@ TEST(FormFactorCacheBudget, TinyCacheBalancesTheLedgerAndMatchesTheFurnace) {
     EXPECT_NEAR(meanIrradianceOverPi(*solved).x, expected, 0.005 * expected);
 }
 
+// A patch's last uneven row is replaced at every uneven shot: the budget counts only the row kept, and a row that
+// does not fit leaves the slot empty (the shot uses its own copy) instead of keeping a stale one.
+TEST(FormFactorCacheBudget, ReplaceKeepsTheBudgetExact) {
+    auto rowOf = [](std::size_t n) {
+        FormFactorRow row;
+        for (std::uint32_t i = 0; i < n; ++i) row.elements.push_back(i), row.formFactors.push_back(1.0f / float(n));
+        return row;
+    };
+    FormFactorCache cache(2, 4096);
+    FormFactorRow small = rowOf(10), medium = rowOf(100), huge = rowOf(1000);
+    ASSERT_TRUE(cache.store(0, small));
+    ASSERT_TRUE(cache.store(1, medium));
+    const std::size_t mediumBytes = cache.find(1)->bytes();
+    const std::size_t before = cache.bytesUsed();
+    FormFactorRow other = rowOf(20);
+    ASSERT_TRUE(cache.replace(0, other));
+    EXPECT_EQ(cache.find(0)->elements.size(), 20u);
+    EXPECT_EQ(cache.bytesUsed(), mediumBytes + cache.find(0)->bytes());
+    EXPECT_GT(cache.bytesUsed(), before);  // 20 entries cost more than 10
+    EXPECT_FALSE(cache.replace(0, huge));   // 8 KB does not fit 4 KiB
+    EXPECT_EQ(cache.find(0), nullptr);
+    EXPECT_EQ(cache.bytesUsed(), mediumBytes);
+    EXPECT_EQ(huge.elements.size(), 1000u);  // left to the caller
+}
+
 // A point lamp 0.15 m over one side of a 2 m floor patch lights a hot spot on a few of its elements: the patch's
-// light lies unevenly, so it is shot from the elements it lies on (ProgressiveShooter, unevenShotSpread), through a
-// row cached in the patch's second slot. The power ledger balances either way and the bound closes (reading the even
+// light lies unevenly, so it is shot from the elements it lies on (ProgressiveShooter, unevenShotSpread), through
+// those elements' own cached rows weighted by the light each holds at that shot. The power ledger balances either way and the bound closes (reading the even
 // row for an uneven patch kept the local bound from ever closing). HangingPanel.* checks what it is for.
 TEST(UnevenShots, HotSpotIsShotFromWhereItLiesAndTheLedgerBalances) {
     auto solve = [](double spread) {
