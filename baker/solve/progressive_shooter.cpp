@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <span>
 #include <functional>
 
 #include <tbb/enumerable_thread_specific.h>
@@ -14,6 +15,7 @@
 #include "mesh/triangle_sampling.h"
 #include "raster/hemicube.h"
 #include "raster/hemicube_pool.h"
+#include "raster/hemicube_weights.h"
 
 namespace hemibake {
 
@@ -97,7 +99,9 @@ ProgressiveShooter::ProgressiveShooter(const PatchMesh& mesh, RadiositySolution&
                                                std::size_t(settings.formFactorCacheMiB * 1048576.0))) {
     shotOnce_.assign(mesh.patches.size(), false);
     unshotW_.assign(mesh.elements.size(), 0.0);
-    maxReceivedFormFactor_.assign(mesh.elements.size(), 0.0f);
+    singlePixelFormFactor_.assign(mesh.elements.size(), 0.0f);
+    const std::span<const double> pixels = HemicubeWeights(settings.hemicubeResolution).weights();
+    largestPixelFormFactor_ = pixels.empty() ? 0.0 : *std::max_element(pixels.begin(), pixels.end());
     for (const glm::vec3& rho : mesh.elements.reflectance)
         maxReflectance_ = std::max({maxReflectance_, double(rho.x), double(rho.y), double(rho.z)});
 }
@@ -346,7 +350,8 @@ void ProgressiveShooter::applyRow(std::uint32_t patch, const FormFactorRow& row,
         const std::uint32_t j = row.elements[k];
         // Reciprocity: F_ji = F_ij·A_i/A_j, so the irradiance j gains is ΔB_i·F_ij·A_i/A_j.
         const double receivedFormFactor = double(row.formFactors[k]) * shooterArea / el.areaM2[j];
-        maxReceivedFormFactor_[j] = std::max(maxReceivedFormFactor_[j], float(receivedFormFactor));
+        if (double(row.formFactors[k]) <= 2.0 * largestPixelFormFactor_)
+            singlePixelFormFactor_[j] = std::max(singlePixelFormFactor_[j], float(receivedFormFactor));
         const glm::dvec3 deltaIrradiance = delta * receivedFormFactor;
         const glm::dvec3 reflected = glm::dvec3(el.reflectance[j]) * deltaIrradiance;
         solution_.irradiance[j] += deltaIrradiance;

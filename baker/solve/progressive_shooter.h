@@ -66,10 +66,11 @@ public:
     // (no rendering). `unknownPatches` counts unshot patches without a row (their light is not in it).
     std::vector<glm::dvec3> pendingIrradiance(std::size_t* unknownPatches = nullptr) const;
     const LocalBound& finalLocalBound() const { return finalBound_; }
-    // Per element, the largest F_ji = F_ij·A_i/A_j any shot handed it. Above about 1 the shooter's hemicube gave a
-    // receiver far smaller than its pixels a whole pixel (a sliver beside a wall): right on average over shots,
-    // but that element's own value is noise and wants a gather of its own.
-    const std::vector<float>& maxReceivedFormFactor() const { return maxReceivedFormFactor_; }
+    // Per element, the largest F_ji = F_ij·A_i/A_j a shot handed it through at most two pixels' worth of F_ij (a
+    // receiver much smaller than the pixel it was drawn into, given all of it: a sliver beside a wall). Above 1 that
+    // element's own value is noise (no receiver sees more than all of one patch). Elements that fill many pixels
+    // (5 cm under a light panel) are not counted: their near-field rows overshoot 1 too, but right on average.
+    const std::vector<float>& singlePixelFormFactor() const { return singlePixelFormFactor_; }
 
     const ShootingLedger& ledger() const { return ledger_; }
     std::size_t formFactorCacheBytes() const { return cache_->bytesUsed(); }
@@ -124,7 +125,8 @@ private:
     std::vector<bool> shotOnce_;  // per patch: has shot (its row may not be cached)
     // Unshot power per element, W (channel sum): where on its patch the light to shoot lies.
     std::vector<double> unshotW_;
-    std::vector<float> maxReceivedFormFactor_;  // per element, see maxReceivedFormFactor()
+    std::vector<float> singlePixelFormFactor_;  // per element, see singlePixelFormFactor()
+    double largestPixelFormFactor_ = 0.0;        // the hemicube's largest delta form factor (its centre pixel)
     std::unique_ptr<tbb::enumerable_thread_specific<MergeScratch>> scratch_;
     std::unique_ptr<FormFactorCache> cache_;
 };

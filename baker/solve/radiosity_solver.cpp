@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <span>
 #include <unordered_map>
 
 #include "baker/direct/direct_light.h"
@@ -15,7 +14,6 @@
 #include "baker/util/stopwatch.h"
 #include "mesh/triangle_sampling.h"
 #include "raster/hemicube_pool.h"
-#include "raster/hemicube_weights.h"
 
 namespace hemibake {
 
@@ -117,49 +115,36 @@ void takeGathered(const PatchMesh& mesh, const InjectedLight& light, std::size_t
     solution.radiosity[e] = b;
 }
 
-// A receiver cannot see more than its whole hemisphere of one patch: a shot that hands element j F_ji = F_ij·A_i/A_j
-// above this gave it a whole hemicube pixel much larger than it (a sliver beside a wall), or it sat too near the
-// shooter for the shooter's hemicube. level_clean has elements of 1e-13 m² handed F_ji = 8e7, radiosity 1e7 W/m²,
-// and whole rooms came out +120 … +390 % per object through the texels that see them. The power such a shot moves
-// is right on average (the receiver's patch shoots it on); only the element's own value is noise.
-constexpr double kPlausibleReceivedFormFactor = 1.0;
+// A receiver cannot see more than its whole hemisphere of one patch (F_ji ≤ 1). A shot that hands element j
+// F_ji = F_ij·A_i/A_j above this through one or two hemicube pixels (ProgressiveShooter::singlePixelFormFactor) drew
+// an element much smaller than a pixel into all of it: level_clean has slivers of 1e-13 m² beside walls handed
+// F_ji = 8e7, radiosity 1e7 W/m², and the few texels whose gathers see them made rooms +120 … +390 % per object.
+// Elements that fill many pixels are left alone even above 1: 5 cm under a light panel the near-field rows
+// overshoot (up to F_ji = 32 in the HangingPanel room) but are right on average, and replacing those elements took
+// the ceiling over the panel from +0.8 % to −17 %.
+constexpr double kImplausibleReceivedFormFactor = 1.0;
 
-// Replaces the shot light of elements no shot can measure (see kPlausibleReceivedFormFactor):
-//  - sub-pixel elements, smaller than the largest hemicube pixel's form factor times the largest patch's area: one
-//    pixel would hand them F_ji > 1, and the rasteriser mostly snaps them to no pixel at all. They take their
-//    patch's mean shot light over its measurable elements (no hemicube can stand at a 1 µm needle in a corner:
-//    its near plane reaches through the wall);
-//  - the other elements a shot handed F_ji > 1 are gathered again: one hemicube at the centroid, seeing the others
-//    (with the implausible ones at their patch's mean).
-// Their own ray-traced light stays; their ambient goes (the patch mean and the gather include it).
-void replaceImplausibleReceivers(const PatchMesh& mesh, const SolveSettings& settings, HemicubePool& pool,
-                                 const InjectedLight& light, const std::vector<float>& maxReceivedFormFactor,
-                                 RadiositySolution& solution, SolveReport& report) {
+// Replaces the shot light of the elements a shot handed an implausible F_ji (kImplausibleReceivedFormFactor) by
+// that of the measured elements around them. The power those shots moved is right on average (the receiver's patch
+// shoots it on), so the solve and its ledger keep it; only what the element itself shows is noise. Not gathered
+// again: a hemicube at a sliver in a corner has its near plane reaching through the wall.
+void replaceImplausibleReceivers(const PatchMesh& mesh, const SolveSettings& settings, const InjectedLight& light,
+                                 const std::vector<float>& singlePixelFormFactor, RadiositySolution& solution,
+                                 SolveReport& report) {
     const ElementArrays& el = mesh.elements;
     const PatchArrays& pa = mesh.patches;
-    const std::span<const double> pixels = HemicubeWeights(settings.solver.hemicubeResolution).weights();
-    const double largestPixel = pixels.empty() ? 0.0 : *std::max_element(pixels.begin(), pixels.end());
-    const double largestPatchM2 = pa.areaM2.empty() ? 0.0 : *std::max_element(pa.areaM2.begin(), pa.areaM2.end());
-    const double subPixelM2 = largestPixel * largestPatchM2 / kPlausibleReceivedFormFactor;
-    enum : std::uint8_t { kMeasured, kSubPixel, kRegather };
-    std::vector<std::uint8_t> kind(el.size(), kMeasured);
-    std::vector<std::uint32_t> regather;
-    for (std::size_t e = 0; e < el.size(); ++e) {
-        if (el.areaM2[e] < subPixelM2) {
-            kind[e] = kSubPixel;
-            ++report.subPixelElements;
-        } else if (e < maxReceivedFormFactor.size() && maxReceivedFormFactor[e] > kPlausibleReceivedFormFactor) {
-            kind[e] = kRegather;
-            regather.push_back(std::uint32_t(e));
+    std::vector<std::uint8_t> implausible(el.size(), 0);
+    for (std::size_t e = 0; e < el.size() && e < singlePixelFormFactor.size(); ++e)
+        if (singlePixelFormFactor[e] > kImplausibleReceivedFormFactor) {
+            implausible[e] = 1;
+            ++report.implausibleReceivers;
         }
-    }
-    report.regatheredElements = regather.size();
-    if (report.subPixelElements == 0 && regather.empty()) return;
+    if (report.implausibleReceivers == 0) return;
 
     // Shot light (all but the ray-traced part): the area-weighted mean over the measured elements nearest around
     // each replaced one, on the same instance and facing the same way: within twice its longest edge, or twice
     // that, … up to an element size (refined elements keep their detail; a needle in a corner is often a face and
-    // a patch of its own); the patch's mean over all its elements where there are none; else none.
+    // a patch of its own); the mean over the patch's measured elements where there are none; else none.
     auto shotLight = [&](std::size_t e) { return solution.displayIrradiance(e) - light.rayTraced[e]; };
     const double cellM = std::max(settings.subdivision.elementSizeM, 1e-12);
     auto cellOf = [&](const glm::dvec3& p) { return glm::i64vec3(glm::floor(p / cellM)); };
@@ -175,14 +160,15 @@ void replaceImplausibleReceivers(const PatchMesh& mesh, const SolveSettings& set
     std::vector<glm::dvec3> patchSum(pa.size(), glm::dvec3(0.0));
     std::vector<double> patchArea(pa.size(), 0.0);
     for (std::size_t e = 0; e < el.size(); ++e) {
+        if (implausible[e]) continue;
         patchSum[el.patch[e]] += shotLight(e) * el.areaM2[e];
         patchArea[el.patch[e]] += el.areaM2[e];
-        if (kind[e] == kMeasured) measuredByCell.emplace(cellKey(cellOf(el.centroid[e])), std::uint32_t(e));
+        measuredByCell.emplace(cellKey(cellOf(el.centroid[e])), std::uint32_t(e));
     }
     std::vector<std::pair<std::uint32_t, glm::dvec3>> replaced;
     std::vector<std::pair<double, std::uint32_t>> around;  // (distance, element)
     for (std::size_t e = 0; e < el.size(); ++e) {
-        if (kind[e] == kMeasured) continue;
+        if (!implausible[e]) continue;
         around.clear();
         const glm::i64vec3 c = cellOf(el.centroid[e]);
         for (std::int64_t dz = -1; dz <= 1; ++dz)
@@ -218,27 +204,13 @@ void replaceImplausibleReceivers(const PatchMesh& mesh, const SolveSettings& set
         solution.radiosity[e] = M_PI * glm::dvec3(el.emittedRadiance[e]) + glm::dvec3(el.reflectance[e]) * solution.irradiance[e];
         if (!solution.ambientIrradiance.empty()) solution.ambientIrradiance[e] = glm::dvec3(0.0);
     }
-    if (regather.empty()) return;
-
-    const bool emittersByRays = light.areaLights != nullptr;
-    std::vector<glm::vec3> radiance(el.size());
-    for (std::size_t e = 0; e < el.size(); ++e) radiance[e] = solution.gatherRadiance(mesh, e, emittersByRays);
-    Gatherer gatherer(pool, settings.solver.seed ^ 0xE1A5ull);
-    gatherer.setElementRadiance(radiance);
-    std::vector<GatherPoint> points(regather.size());
-    for (std::size_t k = 0; k < regather.size(); ++k) points[k] = {el.centroid[regather[k]], el.normal[regather[k]]};
-    std::vector<glm::dvec3> eOverPi;
-    gatherer.gather(points, settings.lighting.skyRadiance, 1, eOverPi);
-    double change = 0.0, total = 0.0;
-    for (std::size_t k = 0; k < regather.size(); ++k) takeGathered(mesh, light, regather[k], eOverPi[k], solution, change, total);
-    report.hemicubes += regather.size();
 }
 
 // Progressive shooting to the bound; fills the report's shooting figures and power ledger.
-// `maxReceivedFormFactor` receives ProgressiveShooter::maxReceivedFormFactor().
+// `singlePixelFormFactor` receives ProgressiveShooter::singlePixelFormFactor().
 void shootToBound(const PatchMesh& mesh, const SolveSettings& settings, HemicubePool& pool, const InjectedLight& light,
                   double startSeconds, RadiositySolution& solution, SolveReport& report, const SolveProgress& progress,
-                  std::vector<float>& maxReceivedFormFactor) {
+                  std::vector<float>& singlePixelFormFactor) {
     ProgressiveShooter shooter(mesh, solution, pool, settings.solver);
     shooter.injectEmission(!light.areaLights);
     shooter.injectIrradiance(light.injected);
@@ -273,7 +245,7 @@ void shootToBound(const PatchMesh& mesh, const SolveSettings& settings, Hemicube
         report.ambientUnknownPatches = unknown;
         solution.ambientIrradiance = ambientIrradiance(mesh, std::move(pending), report);
     }
-    maxReceivedFormFactor = shooter.maxReceivedFormFactor();
+    singlePixelFormFactor = shooter.singlePixelFormFactor();
 }
 
 // Jacobi gathering sweeps from the current solution. Stops after `maxSweeps`, or earlier once the a-posteriori
@@ -325,10 +297,10 @@ SolveReport solveRadiosity(const Scene& scene, const PatchMesh& mesh, const Solv
     report.directSeconds = clock.seconds();
 
     const SolverKind kind = settings.solver.kind;
-    std::vector<float> maxReceivedFormFactor;
+    std::vector<float> singlePixelFormFactor;
     if (kind == SolverKind::Shoot || kind == SolverKind::Hybrid) {
         const double t0 = clock.seconds();
-        shootToBound(mesh, settings, pool, light, t0, solution, report, progress, maxReceivedFormFactor);
+        shootToBound(mesh, settings, pool, light, t0, solution, report, progress, singlePixelFormFactor);
         report.shootSeconds = clock.seconds() - t0;
     } else {
         for (std::size_t e = 0; e < el.size(); ++e) {
@@ -350,9 +322,9 @@ SolveReport solveRadiosity(const Scene& scene, const PatchMesh& mesh, const Solv
     for (std::size_t e = 0; e < el.size(); ++e)
         report.absorbedPowerW += (glm::dvec3(1.0) - glm::dvec3(el.reflectance[e])) * solution.irradiance[e] * el.areaM2[e];
     // After the ledger: it is the power the solve moved; the replaced values are what those elements show.
-    if (!maxReceivedFormFactor.empty() && report.gatherSweeps == 0) {
+    if (!singlePixelFormFactor.empty() && report.gatherSweeps == 0) {
         const double t2 = clock.seconds();
-        replaceImplausibleReceivers(mesh, settings, pool, light, maxReceivedFormFactor, solution, report);
+        replaceImplausibleReceivers(mesh, settings, light, singlePixelFormFactor, solution, report);
         report.gatherSeconds += clock.seconds() - t2;
     }
     return report;

@@ -23,9 +23,9 @@ struct SolveReport {
     std::uint64_t unevenShots = 0; // shots from elements picked by the patch's uneven light
     std::size_t formFactorCacheBytes = 0;
     int gatherSweeps = 0;
-    // Elements whose shot light was replaced after shooting (no shot measures them; radiosity_solver.cpp):
-    std::size_t subPixelElements = 0;    // smaller than a hemicube pixel can hand F_ji ≤ 1: their patch's mean
-    std::size_t regatheredElements = 0;  // handed F_ji > 1 by a shot: gathered again at their centroid
+    // Elements a shot handed F_ji > 2 (a sliver given a whole hemicube pixel): after shooting they show the shot
+    // light of the elements around them (radiosity_solver.cpp).
+    std::size_t implausibleReceivers = 0;
     double directSeconds = 0.0, shootSeconds = 0.0, gatherSeconds = 0.0;
     // Power ledger, W per channel.
     glm::dvec3 emitterPowerW{0.0};   // π·L_e·A over emitting elements

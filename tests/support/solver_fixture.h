@@ -17,19 +17,24 @@ struct SolvedTestScene {
     SolveReport report;
 };
 
+// The faces of a closed unit cube, facing inwards; +y (top) in `top` so it can emit alone; the floor (−y) unless
+// the caller brings its own.
+inline void addFurnaceFaces(SceneBuilder& b, int wall, int top, bool floor = true) {
+    auto c = [](int i) { return glm::dvec3(i & 1, (i >> 1) & 1, (i >> 2) & 1); };
+    b.addQuad(c(2), c(6), c(4), c(0), wall, "-x");
+    b.addQuad(c(1), c(5), c(7), c(3), wall, "+x");
+    if (floor) b.addQuad(c(0), c(4), c(5), c(1), wall, "-y");
+    b.addQuad(c(2), c(3), c(7), c(6), top, "+y");
+    b.addQuad(c(0), c(1), c(3), c(2), wall, "-z");
+    b.addQuad(c(4), c(6), c(7), c(5), wall, "+z");
+}
+
 // A closed unit cube seen from inside; every face emits L_e (or only the top one) with reflectance rho.
 inline Scene furnace(float rho, float emitted, bool onlyTopEmits) {
     SceneBuilder b("furnace");
     const int wall = b.addMaterial(glm::vec3(rho), onlyTopEmits ? glm::vec3(0.0f) : glm::vec3(emitted));
     const int lamp = b.addMaterial(glm::vec3(rho), glm::vec3(emitted));
-    auto c = [](int i) { return glm::dvec3(i & 1, (i >> 1) & 1, (i >> 2) & 1); };
-    // Inward-facing faces; +y (top) separately so it can emit alone.
-    b.addQuad(c(2), c(6), c(4), c(0), wall, "-x");
-    b.addQuad(c(1), c(5), c(7), c(3), wall, "+x");
-    b.addQuad(c(0), c(4), c(5), c(1), wall, "-y");
-    b.addQuad(c(2), c(3), c(7), c(6), lamp, "+y");
-    b.addQuad(c(0), c(1), c(3), c(2), wall, "-z");
-    b.addQuad(c(4), c(6), c(7), c(5), wall, "+z");
+    addFurnaceFaces(b, wall, lamp);
     return b.build();
 }
 

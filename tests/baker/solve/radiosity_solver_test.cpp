@@ -185,49 +185,47 @@ TEST(UnevenShots, HotSpotIsShotFromWhereItLiesAndTheLedgerBalances) {
     EXPECT_EQ(even->report.unevenShots, 0u);
 }
 
-// A needle triangle in a furnace's floor (1 m long, 1 µm wide: a sliver as unwrapping and cutting leave them beside
-// walls). A shooter's hemicube pixel that lands on it hands it a whole pixel's form factor, F_ji = F_ij·A_i/A_j in
-// the thousands, where no receiver can see more than all of one patch (F_ji ≤ 1): level_clean had such elements at
-// 1e7 W/m², and whole rooms came out +120 … +390 % through the texels that see them. Most shots miss it altogether
-// (the rasteriser snaps it to no pixel): here it got nothing. Elements too small for any shot take the shot light
-// around them, so the needle shows the furnace's L_e/(1−ρ) like its neighbours (GROUND_TRUTH §2.A).
-TEST(ImplausibleReceivers, NeedleInAFurnaceFloorTakesTheLightAroundIt) {
+// A needle triangle across a furnace's floor (1 m long, 10 µm wide: a sliver as cutting and unwrapping leave them
+// beside walls). A shooter's hemicube pixel that lands on it hands it all of that pixel, F_ji = F_ij·A_i/A_j in the
+// hundreds, where no receiver can see more than all of one patch: level_clean had such elements at 1e7 W/m², and whole
+// rooms came out +120 … +390 % per object through the texels that see them. A 4 KiB form-factor cache makes every
+// shot render its hemicube again, so some pixel does land on the needle. After shooting, the elements so hit show the
+// shot light around them: no element is brighter than the furnace's L_e/(1−ρ) allows (GROUND_TRUTH §2.A), and the
+// power ledger, the shooting's, still balances. (A needle element no pixel ever lands on stays dark: left alone.)
+TEST(ImplausibleReceivers, NeedleInAFurnaceFloorShowsTheLightAroundIt) {
     const float rho = 0.8f, le = 1.0f;
     SceneBuilder b("needle furnace");
     const int wall = b.addMaterial(glm::vec3(rho), glm::vec3(le));
-    auto c = [](int i) { return glm::dvec3(i & 1, (i >> 1) & 1, (i >> 2) & 1); };
-    b.addQuad(c(2), c(6), c(4), c(0), wall, "-x");
-    b.addQuad(c(1), c(5), c(7), c(3), wall, "+x");
-    b.addQuad(c(2), c(3), c(7), c(6), wall, "+y");
-    b.addQuad(c(0), c(1), c(3), c(2), wall, "-z");
-    b.addQuad(c(4), c(6), c(7), c(5), wall, "+z");
-    // The floor (y = 0, facing up) as four triangles around a point 1 µm off its edge: one of them is the needle.
-    const double width = 1e-6;
-    b.addTriangles({{0, 0, 0}, {1, 0, 0}, {1, 0, 1}, {0, 0, 1}, {0.5, 0, width}}, {{0, 4, 1}, {0, 3, 4}, {4, 3, 2}, {4, 2, 1}},
-                   wall, "floor with a needle");
+    hemibake::test::addFurnaceFaces(b, wall, wall, false);
+    const double width = 1e-5;
+    b.addTriangles({{0, 0, 0}, {1, 0, 0}, {1, 0, 1}, {0, 0, 1}, {0, 0, 0.5}, {1, 0, 0.5}, {0.5, 0, 0.5 + width}},
+                   {{0, 4, 1}, {1, 4, 5}, {4, 6, 5}, {4, 3, 6}, {6, 3, 2}, {6, 2, 5}}, wall, "floor with a needle");
     SolveSettings s = shootOnly(0.5, 32);
     s.solver.epsilon = 1e-4;
+    s.solver.formFactorCacheMiB = 4096.0 / 1048576.0;
     const auto solved = solveTestScene(b.build(), s);
     const PatchMesh& mesh = solved->mesh;
     const double expected = le / (1.0 - double(rho));
-    double needleArea = 0.0, worst = 0.0;
-    std::size_t needleElements = 0;
+    double needleArea = 0.0, brightest = 0.0;
+    std::size_t needleElements = 0, needleNear = 0;
     for (std::size_t e = 0; e < mesh.elements.size(); ++e) {
         const double value = solved->solution.displayIrradiance(e).x / M_PI;
-        worst = std::max(worst, std::abs(value / expected - 1.0));
-        if (mesh.elements.areaM2[e] < 1e-5) {
+        brightest = std::max(brightest, value / expected);
+        if (mesh.elements.areaM2[e] < 1e-4) {
             needleArea += mesh.elements.areaM2[e];
             ++needleElements;
-            // The mean of the shot light around it: the shooter's per-element noise (±5 % here) averaged down.
-            EXPECT_NEAR(value, expected, 0.03 * expected) << "needle element " << e << " of " << mesh.elements.areaM2[e] << " m²";
+            needleNear += std::abs(value / expected - 1.0) <= 0.03;
         }
     }
-    std::printf("needle furnace: %zu needle elements (%.2e m²), %zu sub-pixel, %zu regathered, worst element %+.2e, %llu shots\n",
-                needleElements, needleArea, solved->report.subPixelElements, solved->report.regatheredElements, worst,
+    std::printf("needle furnace: %zu needle elements (%.2e m²), %zu within 3 %%, %zu implausible receivers, brightest "
+                "element %.3f × L_e/(1-rho), %llu shots\n",
+                needleElements, needleArea, needleNear, solved->report.implausibleReceivers, brightest,
                 static_cast<unsigned long long>(solved->report.shots));
     ASSERT_GT(needleElements, 0u);
     EXPECT_NEAR(needleArea, 0.5 * width, 1e-3 * 0.5 * width);  // the needle is all there, as elements of its own
-    EXPECT_EQ(solved->report.subPixelElements, needleElements);  // no shot can measure the needle, whatever it got
-    EXPECT_LE(worst, 0.5);  // ordinary elements keep their shots' noise: ±5 %, up to 31 % on the smallest corner ones
+    EXPECT_GT(solved->report.implausibleReceivers, 0u);         // pixels did land on it
+    EXPECT_GE(needleNear, solved->report.implausibleReceivers);  // those show the light around them
+    EXPECT_LE(brightest, 1.5);  // ordinary elements keep their shots' noise (±5 %, up to 31 % on small corner ones)
+    expectLedgerBalances(solved->report, 1e-9);
     EXPECT_NEAR(meanIrradianceOverPi(*solved).x, expected, 0.002 * expected);
 }
