@@ -100,7 +100,8 @@ ProgressiveShooter::ProgressiveShooter(const PatchMesh& mesh, RadiositySolution&
     shotOnce_.assign(mesh.patches.size(), false);
     unshotW_.assign(mesh.elements.size(), 0.0);
     singlePixelFormFactor_.assign(mesh.elements.size(), 0.0f);
-    const std::span<const double> pixels = HemicubeWeights(settings.hemicubeResolution).weights();
+    const HemicubeWeights weights(settings.hemicubeResolution);
+    const std::span<const double> pixels = weights.weights();
     largestPixelFormFactor_ = pixels.empty() ? 0.0 : *std::max_element(pixels.begin(), pixels.end());
     for (const glm::vec3& rho : mesh.elements.reflectance)
         maxReflectance_ = std::max({maxReflectance_, double(rho.x), double(rho.y), double(rho.z)});
