@@ -23,8 +23,8 @@ struct SolveReport {
     std::uint64_t unevenShots = 0; // shots from elements picked by the patch's uneven light
     std::size_t formFactorCacheBytes = 0;
     int gatherSweeps = 0;
-    // Elements a shot handed F_ji > 2 (a sliver given a whole hemicube pixel): after shooting they show the shot
-    // light of the elements around them (radiosity_solver.cpp).
+    // Elements a shot handed F_ji > 1 through one or two hemicube pixels (a sliver given a whole pixel): after
+    // shooting they show the shot light of the elements around them (radiosity_solver.cpp).
     std::size_t implausibleReceivers = 0;
     double directSeconds = 0.0, shootSeconds = 0.0, gatherSeconds = 0.0;
     // Power ledger, W per channel.
