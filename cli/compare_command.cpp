@@ -42,6 +42,14 @@ void printText(const Comparison& c) {
     std::snprintf(header, sizeof header, "%-40s %9s %10s %10s %10s %10s %11s %11s  %s", "(B is the reference)", "texels",
                   "mean rel", "mean sgn", "p95 rel", "max rel", "RMSE", "rel MSE", "mean A (RGB)  mean B (RGB)");
     std::cout << header << "\n" << row("global", c.global) << "\n";
+    if (c.global.knowsReferenceNoise()) {
+        char noise[256];
+        std::snprintf(noise, sizeof noise,
+                      "B carries its standard error: A against the noise-free answer %.4f%% RMS, B's own noise %.4f%% "
+                      "(relative to each primitive's mean)\n",
+                      100.0 * c.global.relativeRmseAgainstTruth, 100.0 * c.global.referenceNoiseRelativeRms);
+        std::cout << noise;
+    }
     for (const ComparedImage& im : c.images) std::cout << row(im.name, im.stats) << "\n";
     for (const PrimitiveComparison& p : c.primitives)
         std::cout << row(p.entry.value("node", "") + "/" + std::to_string(p.entry.value("mesh", -1)) + "/" +

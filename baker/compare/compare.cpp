@@ -27,8 +27,12 @@ nlohmann::json vec(const glm::dvec3& v) { return {v.x, v.y, v.z}; }
 // Sums and the relative-error samples of one group of texels (global, an atlas, a primitive).
 class ErrorAccumulator {
 public:
-    void add(const glm::vec3& a, const glm::vec3& b, const glm::dvec3& floor) {
+    // `bError`: B's standard error at this texel, or null when B is exact; `meanB`: B's mean over the texel's
+    // primitive (the noise-free scale of relativeRmseAgainstTruth).
+    void add(const glm::vec3& a, const glm::vec3& b, const glm::dvec3& floor, const glm::vec3* bError,
+             const glm::dvec3& meanB) {
         ++texels_;
+        if (!bError) exactReference_ = true;
         for (int c = 0; c < 3; ++c) {
             const double diff = double(a[c]) - double(b[c]);
             const double scale = std::max(std::abs(double(b[c])), floor[c]);
@@ -37,7 +41,14 @@ public:
             sumRelative_ += relative;
             sumSigned_ += diff / scale;
             sumSquared_ += diff * diff;
-            sumRelativeSquared_ += diff * diff / (double(b[c]) * double(b[c]) + floor[c] * floor[c]);
+            const double scaleSquared = double(b[c]) * double(b[c]) + floor[c] * floor[c];
+            sumRelativeSquared_ += diff * diff / scaleSquared;
+            if (bError) {
+                const double meanScaleSquared = meanB[c] * meanB[c] + floor[c] * floor[c];
+                const double noise = double((*bError)[c]) * double((*bError)[c]);
+                sumAgainstTruth_ += (diff * diff - noise) / meanScaleSquared;
+                sumNoise_ += noise / meanScaleSquared;
+            }
             sumA_[c] += a[c];
             sumB_[c] += b[c];
         }
@@ -52,6 +63,10 @@ public:
         s.meanSignedRelativeError = sumSigned_ / n;
         s.rmse = std::sqrt(sumSquared_ / n);
         s.relativeMse = sumRelativeSquared_ / n;
+        if (!exactReference_) {
+            s.relativeRmseAgainstTruth = std::sqrt(std::max(sumAgainstTruth_ / n, 0.0));
+            s.referenceNoiseRelativeRms = std::sqrt(sumNoise_ / n);
+        }
         s.meanA = sumA_ / double(texels_);
         s.meanB = sumB_ / double(texels_);
         const std::size_t rank = std::size_t(std::ceil(kPercentile * n)) - 1;
@@ -65,13 +80,15 @@ private:
     std::uint64_t texels_ = 0;
     std::vector<double> relative_;
     double sumRelative_ = 0.0, sumSigned_ = 0.0, sumSquared_ = 0.0, sumRelativeSquared_ = 0.0;
+    double sumAgainstTruth_ = 0.0, sumNoise_ = 0.0;
+    bool exactReference_ = false;  // some texel had no standard error: the noise figure would be partial
     glm::dvec3 sumA_{0.0}, sumB_{0.0};
 };
 
 void checkSizes(const ComparedImage& im) {
     const std::size_t n = std::size_t(im.width) * std::size_t(im.height);
     if (im.width <= 0 || im.height <= 0 || im.a.size() != n || im.b.size() != n || im.compared.size() != n ||
-        (!im.primitive.empty() && im.primitive.size() != n))
+        (!im.primitive.empty() && im.primitive.size() != n) || (!im.bStandardError.empty() && im.bStandardError.size() != n))
         throw std::invalid_argument("compare: " + im.name + ": arrays do not match the image size");
 }
 
@@ -96,7 +113,7 @@ glm::dvec3 relativeErrorFloor(const std::vector<ComparedImage>& images) {
 }  // namespace
 
 nlohmann::json toJson(const ErrorStats& s) {
-    return {{"texels", s.texels},
+    nlohmann::json j = {{"texels", s.texels},
             {"meanRelativeError", s.meanRelativeError},
             {"meanSignedRelativeError", s.meanSignedRelativeError},
             {"p95RelativeError", s.p95RelativeError},
@@ -105,23 +122,52 @@ nlohmann::json toJson(const ErrorStats& s) {
             {"relativeMse", s.relativeMse},
             {"meanA", vec(s.meanA)},
             {"meanB", vec(s.meanB)}};
+    if (s.knowsReferenceNoise()) {
+        j["relativeRmseAgainstTruth"] = s.relativeRmseAgainstTruth;
+        j["referenceNoiseRelativeRms"] = s.referenceNoiseRelativeRms;
+    }
+    return j;
 }
 
 void computeErrors(Comparison& c) {
     for (const ComparedImage& im : c.images) checkSizes(im);
     c.floor = relativeErrorFloor(c.images);
+    // B's mean per primitive (index = primitive + 1; 0 collects texels of none, per image below).
+    std::vector<glm::dvec3> primitiveSum(c.primitives.size() + 1, glm::dvec3(0.0));
+    std::vector<double> primitiveCount(c.primitives.size() + 1, 0.0);
+    const auto slot = [&](const ComparedImage& im, std::size_t p) {
+        const std::int32_t prim = im.primitive.empty() ? -1 : im.primitive[p];
+        return prim >= 0 && std::size_t(prim) < c.primitives.size() ? std::size_t(prim) + 1 : std::size_t(0);
+    };
+    for (const ComparedImage& im : c.images)
+        for (std::size_t p = 0; p < im.b.size(); ++p)
+            if (im.compared[p] && slot(im, p) > 0) {
+                primitiveSum[slot(im, p)] += glm::dvec3(im.b[p]);
+                primitiveCount[slot(im, p)] += 1.0;
+            }
     ErrorAccumulator global;
     std::vector<ErrorAccumulator> perPrimitive(c.primitives.size());
     for (ComparedImage& im : c.images) {
         ErrorAccumulator atlas;
+        glm::dvec3 noPrimitiveSum(0.0);
+        double noPrimitiveCount = 0.0;
+        for (std::size_t p = 0; p < im.b.size(); ++p)
+            if (im.compared[p] && slot(im, p) == 0) {
+                noPrimitiveSum += glm::dvec3(im.b[p]);
+                noPrimitiveCount += 1.0;
+            }
+        primitiveSum[0] = noPrimitiveSum;
+        primitiveCount[0] = noPrimitiveCount;
         im.signedRelativeError.assign(im.a.size(), glm::vec3(std::numeric_limits<float>::quiet_NaN()));
         for (std::size_t p = 0; p < im.a.size(); ++p) {
             if (!im.compared[p]) continue;
             const glm::vec3 a = im.a[p], b = im.b[p];
-            global.add(a, b, c.floor);
-            atlas.add(a, b, c.floor);
-            const std::int32_t prim = im.primitive.empty() ? -1 : im.primitive[p];
-            if (prim >= 0 && std::size_t(prim) < perPrimitive.size()) perPrimitive[std::size_t(prim)].add(a, b, c.floor);
+            const glm::vec3* bError = im.bStandardError.empty() ? nullptr : &im.bStandardError[p];
+            const std::size_t k = slot(im, p);
+            const glm::dvec3 meanB = primitiveSum[k] / std::max(primitiveCount[k], 1.0);
+            global.add(a, b, c.floor, bError, meanB);
+            atlas.add(a, b, c.floor, bError, meanB);
+            if (k > 0) perPrimitive[k - 1].add(a, b, c.floor, bError, meanB);
             for (int ch = 0; ch < 3; ++ch)
                 im.signedRelativeError[p][ch] =
                     float((double(a[ch]) - double(b[ch])) / std::max(std::abs(double(b[ch])), c.floor[ch]));
@@ -156,7 +202,9 @@ nlohmann::json Comparison::toJson() const {
                         {"floor", "floorFractionOfMean x mean |b| per channel over the compared texels"},
                         {"floorFractionOfMean", kFloorFractionOfMean},
                         {"percentile", "nearest rank"},
-                        {"relativeMse", "mean (a-b)^2 / (b^2 + floor^2)"}};
+                        {"relativeMse", "mean (a-b)^2 / (b^2 + floor^2)"},
+                        {"relativeRmseAgainstTruth", "sqrt(max(0, mean ((a-b)^2 - stderr_b^2) / (m^2 + floor^2))), m = mean b over the texel's primitive; when b carries its standard error"},
+                        {"referenceNoiseRelativeRms", "sqrt(mean stderr_b^2 / (m^2 + floor^2))"}};
     j["floor"] = vec(floor);
     j["global"] = hemibake::toJson(global);
     j["images"] = nlohmann::json::array();
@@ -363,6 +411,12 @@ Comparison compareLightmapDirectories(const fs::path& a, const fs::path& b, bool
                                      "figures use the unclaimed texels in its rectangle");
         }
 
+    // A path-traced B carries its standard error beside every atlas; one missing and the noise figures are left out.
+    const auto errorFile = [&](const std::string& file) { return fs::path(b / file).replace_extension(".stderr.exr"); };
+    std::error_code ec;
+    const bool referenceErrors = std::all_of(setA.files.begin(), setA.files.end(),
+                                             [&](const std::string& file) { return fs::exists(errorFile(file), ec); });
+
     for (std::size_t atlas = 0; atlas < setA.files.size(); ++atlas) {
         const std::string& file = setA.files[atlas];
         const LightmapImage la = readLightmapExr(a / file), lb = readLightmapExr(b / file);
@@ -378,6 +432,13 @@ Comparison compareLightmapDirectories(const fs::path& a, const fs::path& b, bool
         im.width = im.height = la.size;
         im.a = la.irradianceOverPi;
         im.b = lb.irradianceOverPi;
+        if (referenceErrors) {
+            LightmapImage errors = readLightmapExr(errorFile(file));
+            if (errors.size != lb.size)
+                throw InputError(errorFile(file).string(), "is " + std::to_string(errors.size) + " texels wide but " +
+                                                               (b / file).string() + " is " + std::to_string(lb.size));
+            im.bStandardError = std::move(errors.irradianceOverPi);
+        }
         im.compared.assign(im.a.size(), 0);
         im.primitive.assign(im.a.size(), -1);
         if (layout) {

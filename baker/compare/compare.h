@@ -13,6 +13,14 @@
 //   meanSignedRelativeError  mean of the signed relative error (bias: < 0 when A is darker than B)
 //   rmse                sqrt(mean of (a − b)²), in the values' units (W·m⁻²·sr⁻¹ for lightmaps)
 //   relativeMse         mean of (a − b)² / (b² + floor_c²)
+//   relativeRmseAgainstTruth   when B is a path-traced estimate that carries its standard error σ_b per texel
+//                       (`reference --texels` writes it beside each atlas): A's RMS error against the noise-free
+//                       answer, relative to the mean m of B over the texel's primitive (over the image for texels of
+//                       none): sqrt(max(0, mean of ((a − b)² − σ_b²) / (m_c² + floor_c²))). E[(a − b)²] = (a − t)² + σ_b²
+//                       when B's noise is independent of A, and m carries no texel's noise, so the figure is unbiased
+//                       and a result better than the reference's own noise still scores (a per-texel denominator b
+//                       would correlate with the noise and bias it by ≈ 4·δ·σ²/t²)
+//   referenceNoiseRelativeRms  sqrt(mean of σ_b² / (m_c² + floor_c²)): B's own noise on that scale
 //   meanA, meanB        per channel means over the compared texels
 // The floor is computed once over all compared texels (global), so the per-atlas and per-primitive figures
 // use the same scale as the global ones.
@@ -37,7 +45,11 @@ struct ErrorStats {
     double maxRelativeError = 0.0;
     double rmse = 0.0;
     double relativeMse = 0.0;
+    double relativeRmseAgainstTruth = -1.0;   // < 0: B carries no standard error
+    double referenceNoiseRelativeRms = -1.0;  // < 0: B carries no standard error
     glm::dvec3 meanA{0.0}, meanB{0.0};
+
+    bool knowsReferenceNoise() const { return referenceNoiseRelativeRms >= 0.0; }
 };
 
 // One image pair: a lightmap atlas of both sides, or the two images.
@@ -45,6 +57,7 @@ struct ComparedImage {
     std::string name;  // atlas file relative to the bake directory, or the image file name
     int width = 0, height = 0;
     std::vector<glm::vec3> a, b;            // width × height, rows top to bottom
+    std::vector<glm::vec3> bStandardError;  // B's standard error per pixel and channel, or empty (B is exact)
     std::vector<std::uint8_t> compared;     // 1 where a texel is compared (covered), per pixel
     std::vector<std::int32_t> primitive;    // per pixel: index into Comparison::primitives, −1 = none
     std::uint64_t insideTexels = 0;         // covered texels left out: inside or under geometry
@@ -85,6 +98,7 @@ Comparison compareImageFiles(const std::filesystem::path& a, const std::filesyst
 // path tracer) are left out and counted in ComparedImage::insideTexels. Primitives are the bake.json list;
 // each owns the texels of its instance (matched by lightmap file and rectangle). Throws InputError with a
 // one-line message naming the file when the two do not share a layout (lightmap files, primitives, sizes).
+// B's `<atlas>.stderr.exr` files, when all are there, give the reference-noise figures.
 Comparison compareLightmapDirectories(const std::filesystem::path& a, const std::filesystem::path& b,
                                       bool includeInsideGeometry = false);
 

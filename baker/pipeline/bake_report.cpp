@@ -26,6 +26,7 @@ nlohmann::json convergenceJson(const SolveReport& solve) {
             {"hemicubes", solve.hemicubes},
             {"cachedShots", solve.cachedShots},
             {"unevenShots", solve.unevenShots},
+            {"localRounds", solve.localRounds},
             {"emittersByRays", solve.emittersByRays},
             {"formFactorCacheMiB", double(solve.formFactorCacheBytes) / 1048576.0},
             {"gatherSweeps", solve.gatherSweeps},
@@ -37,7 +38,8 @@ nlohmann::json convergenceJson(const SolveReport& solve) {
                          {"elementsReached", solve.ambientElements},
                          {"unknownPatches", solve.ambientUnknownPatches}}},
             // The solve's own stages, inside timings.solve.
-            {"seconds", {{"direct", solve.directSeconds}, {"shoot", solve.shootSeconds}, {"gather", solve.gatherSeconds}}},
+            {"seconds", {{"direct", solve.directSeconds}, {"shoot", solve.shootSeconds},
+                          {"localBound", solve.localBoundSeconds}, {"gather", solve.gatherSeconds}}},
             {"history", history}};
 }
 

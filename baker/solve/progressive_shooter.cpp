@@ -98,6 +98,7 @@ ProgressiveShooter::ProgressiveShooter(const PatchMesh& mesh, RadiositySolution&
       cache_(std::make_unique<FormFactorCache>(2 * mesh.patches.size() + mesh.elements.size(),
                                                std::size_t(settings.formFactorCacheMiB * 1048576.0))) {
     shotOnce_.assign(mesh.patches.size(), false);
+    queuedAtShot_.assign(mesh.patches.size(), 0);
     unshotW_.assign(mesh.elements.size(), 0.0);
     singlePixelFormFactor_.assign(mesh.elements.size(), 0.0f);
     const HemicubeWeights weights(settings.hemicubeResolution);
@@ -147,21 +148,27 @@ void ProgressiveShooter::renderShot(std::uint32_t patch, Shot& shot) const {
     if (shot.uneven) {
         // Each picked element's row is cached on its own and weighted by the share of the light it holds now: the
         // picks change from shot to shot (the first shots' hot spot, later the room's even bounce), the rows do not.
-        std::vector<std::pair<const FormFactorRow*, double>> rows;
+        std::vector<std::pair<const FormFactorRow*, double>> rows(shot.picks.size());
         shot.elementRows.resize(shot.picks.size());
+        std::vector<std::size_t> missing;
         for (std::size_t k = 0; k < shot.picks.size(); ++k) {
-            const auto [e, share] = shot.picks[k];
-            const FormFactorRow* row = cache_->find(elementSlot(e));
-            if (row) {
-                cache_->countHit();
-            } else {
-                FormFactorRow& own = shot.elementRows[k];
-                // Rotated by the element, not the shot: the row is the same whenever the element is first picked.
-                renderPickedRow({{e, 1.0}}, settings_.seed * 0x9E3779B97F4A7C15ull + e, own, 2654435761u);
-                shot.hemicubesRendered += own.hemicubes;
-                row = cache_->store(elementSlot(e), own) ? cache_->find(elementSlot(e)) : &own;
-            }
-            rows.emplace_back(row, share);
+            rows[k] = {cache_->find(elementSlot(shot.picks[k].first)), shot.picks[k].second};
+            if (rows[k].first) cache_->countHit();
+            else missing.push_back(k);
+        }
+        // In parallel, isolated (renderPickedRow says why). Rotated by the element, not the shot: the row is the
+        // same whenever the element is first picked.
+        tbb::this_task_arena::isolate([&] {
+            tbb::parallel_for(std::size_t(0), missing.size(), [&](std::size_t m) {
+                const std::uint32_t e = shot.picks[missing[m]].first;
+                renderElementRow(e, (settings_.seed * 0x9E3779B97F4A7C15ull + e) * 2654435761u, shot.elementRows[missing[m]]);
+            });
+        });
+        for (std::size_t k : missing) {
+            const std::uint32_t e = shot.picks[k].first;
+            FormFactorRow& own = shot.elementRows[k];
+            shot.hemicubesRendered += own.hemicubes;
+            rows[k].first = cache_->store(elementSlot(e), own) ? cache_->find(elementSlot(e)) : &own;
         }
         mergeRows(rows, shot.own);
         // Kept for the local bound, which predicts the next uneven shot by this one (merging every uneven patch's
@@ -282,56 +289,70 @@ const FormFactorRow* ProgressiveShooter::nextRow(std::uint32_t patch) const {
 
 void ProgressiveShooter::renderPickedRow(const std::vector<std::pair<std::uint32_t, double>>& picks, std::uint64_t seed,
                                          FormFactorRow& row, std::uint64_t rotationStream) const {
+    if (picks.size() == 1) {
+        renderElementRow(picks[0].first, seed * rotationStream, row);
+        return;
+    }
+    // One row per pick, rendered in parallel: a shot with 16 picks (4 × 4 points each in a tight gap) would
+    // otherwise hold one thread for hundreds of hemicubes while the batch's other shots are long done. Isolated,
+    // so a thread waiting here only takes these picks' work, never another shot's (which would reuse its scratch).
+    std::vector<FormFactorRow> perPick(picks.size());
+    tbb::this_task_arena::isolate([&] {
+        tbb::parallel_for(std::size_t(0), picks.size(), [&](std::size_t k) {
+            renderElementRow(picks[k].first, seed * rotationStream + k, perPick[k]);
+        });
+    });
+    std::vector<std::pair<const FormFactorRow*, double>> rows;
+    for (std::size_t k = 0; k < picks.size(); ++k) rows.emplace_back(&perPick[k], picks[k].second);
+    mergeRows(rows, row);  // weights normalised there: the row shoots exactly the power given
+}
+
+void ProgressiveShooter::renderElementRow(std::uint32_t e, std::uint64_t rotation, FormFactorRow& row) const {
     HemicubeRenderer& renderer = pool_.local();
     MergeScratch& scratch = scratch_->local();
     const ElementArrays& el = mesh_.elements;
     scratch.begin(el.size(), row);
-    double weights = 0.0;
-    for (std::size_t k = 0; k < picks.size(); ++k) {
-        const auto [e, w] = picks[k];
-        weights += w;
-        const glm::dvec3 normal(el.normal[e]);
-        const std::uint64_t rotation = seed * rotationStream + k;
-        auto add = [&](double weight) {
-            ++row.hemicubes;
-            scratch.add(scratch.list.elements, scratch.list.formFactors, weight);
-            row.skyFraction += weight * scratch.list.skyFraction;
-            row.backfaceFraction += weight * scratch.list.backfaceFraction;
-        };
-        renderer.renderFormFactors(HemicubeFrame::randomlyRotated(el.centroid[e], normal, rotation), scratch.list);
-        const double elementSizeM = std::sqrt(2.0 * el.areaM2[e]);
-        const double wholeArea = triangleArea(el, e);
-        if (el.areaM2[e] < wholeArea * (1.0 - 1e-6) || !facesTightGap(renderer, scratch.list, elementSizeM)) {
-            add(w);
-            continue;
-        }
-        // A surface in a tight gap in front of the element: from its centroid it hides nearly the whole hemisphere,
-        // from points near the element's rim much less (a panel 5 cm under a ceiling: 0.97 at the centre, 0.87 over
-        // the element). Integrate over the element instead, at its k × k sub-triangles' centroids. Trimmed elements
-        // keep the centroid: parts of their triangle lie under what covers them.
-        const auto& tri = el.triangles[e];
-        const glm::dvec3 a = el.vertices[tri[0]], b = el.vertices[tri[1]], c = el.vertices[tri[2]];
-        int point = 0;
-        forEachSubTriangleCentroid(kTightSamplesPerSide, [&](double wa, double wb) {
-            const glm::dvec3 p = wa * a + wb * b + (1.0 - wa - wb) * c;
-            renderer.renderFormFactors(HemicubeFrame::randomlyRotated(p, normal, rotation * 31u + std::uint64_t(point++)),
-                                       scratch.list);
-            add(w / double(kTightSamplesPerSide * kTightSamplesPerSide));
-        });
+    const glm::dvec3 normal(el.normal[e]);
+    auto add = [&](double weight) {
+        ++row.hemicubes;
+        scratch.add(scratch.list.elements, scratch.list.formFactors, weight);
+        row.skyFraction += weight * scratch.list.skyFraction;
+        row.backfaceFraction += weight * scratch.list.backfaceFraction;
+    };
+    renderer.renderFormFactors(HemicubeFrame::randomlyRotated(el.centroid[e], normal, rotation), scratch.list);
+    const double elementSizeM = std::sqrt(2.0 * el.areaM2[e]);
+    const double wholeArea = triangleArea(el, e);
+    if (el.areaM2[e] < wholeArea * (1.0 - 1e-6) || !facesTightGap(renderer, scratch.list, elementSizeM)) {
+        add(1.0);
+        scratch.finish(1.0, row);
+        return;
     }
-    // The weights sum to 1 up to rounding: normalise so the row shoots exactly the power given.
-    const double norm = weights > 0.0 ? 1.0 / weights : 0.0;
-    row.skyFraction *= norm;
-    row.backfaceFraction *= norm;
-    scratch.finish(norm, row);
+    // A surface in a tight gap in front of the element: from its centroid it hides nearly the whole hemisphere,
+    // from points near the element's rim much less (a panel 5 cm under a ceiling: 0.97 at the centre, 0.87 over
+    // the element). Integrate over the element instead, at its k × k sub-triangles' centroids. Trimmed elements
+    // keep the centroid: parts of their triangle lie under what covers them.
+    const auto& tri = el.triangles[e];
+    const glm::dvec3 a = el.vertices[tri[0]], b = el.vertices[tri[1]], c = el.vertices[tri[2]];
+    int point = 0;
+    const double weight = 1.0 / double(kTightSamplesPerSide * kTightSamplesPerSide);
+    forEachSubTriangleCentroid(kTightSamplesPerSide, [&](double wa, double wb) {
+        const glm::dvec3 p = wa * a + wb * b + (1.0 - wa - wb) * c;
+        renderer.renderFormFactors(HemicubeFrame::randomlyRotated(p, normal, rotation * 31u + std::uint64_t(point++)),
+                                   scratch.list);
+        add(weight);
+    });
+    scratch.finish(1.0, row);
 }
 
 void ProgressiveShooter::applyShot(const Shot& shot) {
     applyRow(shot.patch, *shot.row, shot.deltaRadiosity);
-    // Queue updates after the row: a patch with many receiving elements is updated once per element otherwise.
+    // Queue updates after the row, once per receiving patch (else once per element).
     const ElementArrays& el = mesh_.elements;
+    const std::uint64_t stamp = ledger_.shots + 1;
     for (std::size_t k = 0; k < shot.row->elements.size(); ++k) {
         const std::uint32_t p = el.patch[shot.row->elements[k]];
+        if (queuedAtShot_[p] == stamp) continue;
+        queuedAtShot_[p] = stamp;
         queue_.set(p, channelSum(solution_.unshotRadiosity[p]) * mesh_.patches.areaM2[p]);
     }
     shotOnce_[shot.patch] = true;
@@ -471,7 +492,8 @@ ProgressiveShooter::LocalBound ProgressiveShooter::localBound(double epsilon) co
     return bound;
 }
 
-void ProgressiveShooter::shoot(const std::vector<std::uint32_t>& patches, std::vector<Shot>& shots, std::uint64_t& shotSeed) {
+void ProgressiveShooter::shoot(const std::vector<std::uint32_t>& patches, std::vector<Shot>& shots, std::uint64_t& shotSeed,
+                               const std::function<bool()>& afterBatch) {
     for (std::size_t begin = 0; begin < patches.size(); begin += shots.size()) {
         const std::size_t count = std::min(shots.size(), patches.size() - begin);
         std::size_t picked = 0;
@@ -502,6 +524,7 @@ void ProgressiveShooter::shoot(const std::vector<std::uint32_t>& patches, std::v
                           tbb::simple_partitioner());
         for (std::size_t i = 0; i < picked; ++i) applyShot(shots[i]);
         if (picked < count) return;  // the shot limit
+        if (!afterBatch()) return;
     }
 }
 
@@ -541,16 +564,22 @@ std::string ProgressiveShooter::run(ConvergenceHistory& history, const Progress&
             top.push_back(std::uint32_t(queue_.argmax()));
             queue_.set(top.back(), 0.0);  // taken; shoot() reads the patch's unshot radiosity
         }
-        shoot(top, shots, shotSeed);
+        shoot(top, shots, shotSeed, [] { return true; });
         record(false);
     }
     // Then locally: the patches whose unshot light is still a sizeable part of what some element has.
     while (reason.empty()) {
+        const Stopwatch boundClock;
         finalBound_ = localBound(settings_.epsilon);
+        ledger_.localBoundSeconds += boundClock.seconds();
+        ++ledger_.localRounds;
         localPhase = true;
         if (finalBound_.max <= settings_.epsilon) { reason = "converged"; break; }
         if (const char* l = limit()) { reason = l; break; }
-        shoot(finalBound_.worstPatches, shots, shotSeed);
+        shoot(finalBound_.worstPatches, shots, shotSeed, [&] {
+            record(false);
+            return limit() == nullptr;
+        });
         record(false);
     }
     if (reason != "converged") finalBound_ = localBound(settings_.epsilon);

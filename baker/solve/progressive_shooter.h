@@ -31,6 +31,8 @@ struct ShootingLedger {
     std::uint64_t hemicubes = 0;     // rendered; > shots when proximity asked for several sample points
     std::uint64_t cachedShots = 0;   // shots that reused their patch's cached form-factor row
     std::uint64_t unevenShots = 0;   // shots from elements picked by the patch's uneven light (unevenShotSpread)
+    std::uint64_t localRounds = 0;   // local-bound evaluations after the bulk (each picks the next patches to shoot)
+    double localBoundSeconds = 0.0;  // spent evaluating them (serial; the rest of the shoot time renders and applies)
     std::size_t cacheBytes = 0;      // form-factor rows kept
 };
 
@@ -96,6 +98,9 @@ private:
     // hemicube k is rotated by seed × rotationStream + k (proximity and uneven rows draw different streams).
     void renderPickedRow(const std::vector<std::pair<std::uint32_t, double>>& picks, std::uint64_t seed,
                          FormFactorRow& row, std::uint64_t rotationStream) const;
+    // One element's row: a hemicube at its centroid rotated by `rotation`, or, facing a tight gap, the mean of
+    // kTightSamplesPerSide² hemicubes over it. Uses this thread's renderer and scratch; thread-safe across threads.
+    void renderElementRow(std::uint32_t element, std::uint64_t rotation, FormFactorRow& row) const;
     // The cached row that predicts `patch`'s next shot: its row, or, its light lying unevenly, the row of its last
     // uneven shot (the next one re-weights the same elements by the light they hold then); null if none.
     const FormFactorRow* nextRow(std::uint32_t patch) const;
@@ -110,8 +115,11 @@ private:
     // Hands `deltaRadiosity` of `patch` through `row` to the elements it sees (queue updates left to the caller).
     void applyRow(std::uint32_t patch, const FormFactorRow& row, const glm::dvec3& deltaRadiosity);
     void applyShot(const Shot& shot);
-    // Renders (in parallel) and applies the shots of `patches`, each with what it holds now.
-    void shoot(const std::vector<std::uint32_t>& patches, std::vector<Shot>& shots, std::uint64_t& shotSeed);
+    // Renders (in parallel) and applies the shots of `patches`, each with what it holds now, a batch of
+    // shots.size() at a time; after each batch `afterBatch` reports progress and returns false to stop there (a
+    // local round can hold thousands of patches: minutes without it). Patches not reached keep their unshot light.
+    void shoot(const std::vector<std::uint32_t>& patches, std::vector<Shot>& shots, std::uint64_t& shotSeed,
+               const std::function<bool()>& afterBatch);
 
     const PatchMesh& mesh_;
     RadiositySolution& solution_;
@@ -123,6 +131,9 @@ private:
     double exitanceW_ = 0.0;  // kept up to date by every injection and shot
     LocalBound finalBound_;
     std::vector<bool> shotOnce_;  // per patch: has shot (its row may not be cached)
+    // Per patch: the last shot (ledger_.shots + 1) whose receivers updated its queue entry, so a shot updates each
+    // receiving patch once, not once per element (in a furnace every shot reaches thousands of elements).
+    std::vector<std::uint64_t> queuedAtShot_;
     // Unshot power per element, W (channel sum): where on its patch the light to shoot lies.
     std::vector<double> unshotW_;
     std::vector<float> singlePixelFormFactor_;  // per element, see singlePixelFormFactor()

@@ -211,6 +211,8 @@ void shootToBound(const PatchMesh& mesh, const SolveSettings& settings, Hemicube
     report.hemicubes = ledger.hemicubes;
     report.cachedShots = ledger.cachedShots;
     report.unevenShots = ledger.unevenShots;
+    report.localRounds = ledger.localRounds;
+    report.localBoundSeconds = ledger.localBoundSeconds;
     report.formFactorCacheBytes = shooter.formFactorCacheBytes();
     report.escapedPowerW = ledger.escapedW;
     // Ray-traced emitters did not shoot: what they emitted and no front face received went to the sky or onto

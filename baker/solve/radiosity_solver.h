@@ -21,6 +21,8 @@ struct SolveReport {
     std::uint64_t hemicubes = 0;   // shooting hemicubes + gathering hemicubes (rendered)
     std::uint64_t cachedShots = 0; // shots that reused a cached form-factor row (no hemicube rendered)
     std::uint64_t unevenShots = 0; // shots from elements picked by the patch's uneven light
+    std::uint64_t localRounds = 0; // local-bound evaluations that picked what to shoot after the bulk
+    double localBoundSeconds = 0.0; // spent in them (part of shootSeconds)
     std::size_t formFactorCacheBytes = 0;
     int gatherSweeps = 0;
     // Elements a shot handed F_ji > 1 through one or two hemicube pixels (a sliver given a whole pixel): after

@@ -92,6 +92,35 @@ TEST(Compare, ScaledReferenceGivesOneEleventh) {
     EXPECT_NEAR(single(std::move(swapped)).global.meanRelativeError, 0.1, 1e-6);
 }
 
+TEST(Compare, ReferenceNoiseIsTakenOutOfTheErrorAgainstTruth) {
+    // Truth t per channel everywhere; B = t·(1 ± 5 %) alternating, with its standard error 5 % of t; A = t·(1 + δ).
+    // Per pair of texels (a − b)² = t²((δ − 0.05)² + (δ + 0.05)²) = 2t²δ² + 2σ², so A against the truth is exactly
+    // δ on the scale m = mean b = t (floor 1 % of t: δ / sqrt(1.0001)), while the plain figures carry B's noise.
+    const glm::vec3 truth(1.0f, 0.5f, 0.25f);
+    const double delta = 0.02, noise = 0.05;
+    ComparedImage im = syntheticImage(16, 8, [&](std::size_t) { return truth * float(1.0 + delta); });
+    for (std::size_t i = 0; i < im.b.size(); ++i) {
+        im.b[i] = truth * float(i % 2 ? 1.0 - noise : 1.0 + noise);
+        im.bStandardError.push_back(truth * float(noise));
+    }
+    const ComparedImage kept = im;
+    const Comparison c = single(std::move(im));
+    ASSERT_TRUE(c.global.knowsReferenceNoise());
+    EXPECT_NEAR(c.global.relativeRmseAgainstTruth, delta / std::sqrt(1.0001), 1e-6);
+    EXPECT_NEAR(c.global.referenceNoiseRelativeRms, noise / std::sqrt(1.0001), 1e-6);
+    EXPECT_GT(std::sqrt(c.global.relativeMse), 2.0 * delta);  // the plain figure is mostly B's noise
+    // A equal to the truth scores 0 against it, however noisy B is.
+    ComparedImage exact = kept;
+    for (glm::vec3& a : exact.a) a = truth;
+    EXPECT_NEAR(single(std::move(exact)).global.relativeRmseAgainstTruth, 0.0, 1e-3);
+    // Without B's standard error there is no such figure.
+    ComparedImage plain = kept;
+    plain.bStandardError.clear();
+    const Comparison p = single(std::move(plain));
+    EXPECT_FALSE(p.global.knowsReferenceNoise());
+    EXPECT_LT(p.global.relativeRmseAgainstTruth, 0.0);
+}
+
 TEST(Compare, FloorKeepsBlackReferenceTexelsFinite) {
     // B is 1 everywhere except one black texel where A is 2: floor = 1 % of mean |b|.
     ComparedImage im = syntheticImage(10, 10, [](std::size_t) { return glm::vec3(1.0f); });
@@ -375,6 +404,13 @@ TEST(ReferenceTexels, WritesTheBakeLayoutAndComparesAsABake) {
     EXPECT_GT(c.global.meanRelativeError, 0.0);
     const Comparison back = compareLightmapDirectories(ref, bake.dir);
     EXPECT_EQ(back.global.texels, c.global.texels);
+    // REF carries its standard error, so the bake gets a noise-corrected figure; the bake (no .stderr.exr) as B
+    // gives the path tracer none.
+    EXPECT_TRUE(c.global.knowsReferenceNoise());
+    EXPECT_GT(c.global.referenceNoiseRelativeRms, 0.0);
+    EXPECT_FALSE(back.global.knowsReferenceNoise());
+    EXPECT_FALSE(c.toJson()["global"]["relativeRmseAgainstTruth"].is_null());
+    EXPECT_TRUE(back.toJson()["global"]["relativeRmseAgainstTruth"].is_null());
 }
 
 // ---- Progressive passes ----
