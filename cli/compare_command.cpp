@@ -99,7 +99,9 @@ CommandRunner addCompareCommand(CLI::App& app) {
         "compare",
         "Error of A against the reference B: two bake/reference directories texel for texel (covered texels of the "
         "bake's layout; per atlas and per primitive), or two images of equal size. Relative error "
-        "|a-b|/max(|b|, floor), floor = 1% of B's mean per channel; also p95/max relative error, RMSE, relative MSE");
+        "|a-b|/max(|b|, floor), floor = 1% of B's mean per channel; also p95/max relative error, RMSE, relative MSE. When B is a "
+        "`reference --texels` output it carries its standard error (.stderr.exr), and A's RMS error against the "
+        "noise-free answer is reported too (B's own noise taken out; relative to each primitive's mean)");
     cmd->add_option("a", o->a, "Result: a bake directory, a `reference --texels` directory, or an image (EXR)")->required();
     cmd->add_option("b", o->b, "Reference: the same kind as A")->required();
     cmd->add_flag("--json", o->json, "Print the figures as one JSON object (hemibake-compare/1)");
