@@ -135,7 +135,7 @@ def sweep_level(a, results, kind, triangles):
         out_dir = os.path.join(base, f"pt-{spp}")
         # A different seed from the reference's, so the two estimates are independent.
         wall, mem, _ = run([a.binary, "reference", "--texels", layout, "-o", out_dir, "--spp", str(spp), "--seed", "7"])
-        row = {"method": "path tracer", "setting": f"{spp} spp", "spp": spp, "seconds": wall, "peakMiB": mem,
+        row = {"method": "path tracer", "setting": f"{spp} spp", "seconds": wall, "peakMiB": mem,
                "outDir": out_dir, **scores(a.binary, out_dir, reference)}
         level["rows"][key] = row
         save()

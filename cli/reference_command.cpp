@@ -132,7 +132,7 @@ int runCamera(const ReferenceOptions& o, ProgressLine& progress) {
         sumVariance += estimate.standardError[p] * estimate.standardError[p];
     }
     const fs::path image(o.output);
-    const fs::path errorImage = fs::path(image).replace_extension(".stderr.exr");
+    const fs::path errorImage = standardErrorPath(image);
     const fs::path preview = fs::path(image).replace_extension(".png");
     writeRgbExr(image, radiance);
     writeRgbExr(errorImage, standardError);
@@ -200,7 +200,7 @@ int runTexels(const ReferenceOptions& o, ProgressLine& progress) {
         }
         const fs::path file = refDir / layout.lightmapFiles[a];
         writeLightmapExr(file, values);
-        writeLightmapExr(fs::path(file).replace_extension(".stderr.exr"), errors);
+        writeLightmapExr(standardErrorPath(file), errors);
     }
     finish(progress, summary(estimate.status, o.spp));
 
@@ -212,7 +212,7 @@ int runTexels(const ReferenceOptions& o, ProgressLine& progress) {
     if (layout.report.contains("sceneAbsolute")) j["sceneAbsolute"] = layout.report["sceneAbsolute"];
     j["lightmap"] = {{"files", layout.lightmapFiles},
                      {"texelsPerUnit", layout.report["lightmap"].value("texelsPerUnit", 0.0)},
-                     {"standardErrorSuffix", ".stderr.exr"}};
+                     {"standardErrorSuffix", kStandardErrorExtension}};
     j["texels"] = points.size();
     const double n = double(std::max<std::size_t>(points.size(), 1));
     j["meanIrradianceOverPi"] = vec(sum / n);

@@ -412,7 +412,7 @@ Comparison compareLightmapDirectories(const fs::path& a, const fs::path& b, bool
         }
 
     // A path-traced B carries its standard error beside every atlas; one missing and the noise figures are left out.
-    const auto errorFile = [&](const std::string& file) { return fs::path(b / file).replace_extension(".stderr.exr"); };
+    const auto errorFile = [&](const std::string& file) { return standardErrorPath(b / file); };
     std::error_code ec;
     const bool referenceErrors = std::all_of(setA.files.begin(), setA.files.end(),
                                              [&](const std::string& file) { return fs::exists(errorFile(file), ec); });

@@ -19,4 +19,11 @@ void writeLightmapExr(const std::filesystem::path& path, const LightmapImage& im
 // non-square image.
 LightmapImage readLightmapExr(const std::filesystem::path& path);
 
+// Where a path-traced estimate keeps its standard error per pixel: IMG.exr → IMG.stderr.exr (`reference` writes
+// it for camera images and texel atlases; `compare` reads it for B). Pure; thread-safe.
+inline constexpr const char* kStandardErrorExtension = ".stderr.exr";
+inline std::filesystem::path standardErrorPath(const std::filesystem::path& values) {
+    return std::filesystem::path(values).replace_extension(kStandardErrorExtension);
+}
+
 }  // namespace hemibake

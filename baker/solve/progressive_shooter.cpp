@@ -38,7 +38,17 @@ bool facesTightGap(const HemicubeRenderer& renderer, const FormFactorList& list,
     return list.minDepthM < nearM && renderer.formFactorNearerThan(nearM) > kTightCover;
 }
 
+// body(k) for every k < count, in parallel inside a shot (its picks): a shot with 16 picks (4 × 4 points each in a
+// tight gap) would otherwise hold one thread for hundreds of hemicubes while the batch's other shots are long done.
+// Isolated, so a thread waiting here takes only this loop's work, never another shot's, whose thread-local renderer
+// and merge scratch it would reuse mid-row.
+template <class Body>
+void forEachPickInParallel(std::size_t count, const Body& body) {
+    tbb::this_task_arena::isolate([&] { tbb::parallel_for(std::size_t(0), count, body); });
+}
+
 }  // namespace
+
 
 // One patch's shot: the radiosity it shoots and its row of area-averaged form factors to every element it sees
 // (the cache's, or its own when the cache is full).
@@ -156,13 +166,10 @@ void ProgressiveShooter::renderShot(std::uint32_t patch, Shot& shot) const {
             if (rows[k].first) cache_->countHit();
             else missing.push_back(k);
         }
-        // In parallel, isolated (renderPickedRow says why). Rotated by the element, not the shot: the row is the
-        // same whenever the element is first picked.
-        tbb::this_task_arena::isolate([&] {
-            tbb::parallel_for(std::size_t(0), missing.size(), [&](std::size_t m) {
-                const std::uint32_t e = shot.picks[missing[m]].first;
-                renderElementRow(e, (settings_.seed * 0x9E3779B97F4A7C15ull + e) * 2654435761u, shot.elementRows[missing[m]]);
-            });
+        // Rotated by the element, not the shot: the row is the same whenever the element is first picked.
+        forEachPickInParallel(missing.size(), [&](std::size_t m) {
+            const std::uint32_t e = shot.picks[missing[m]].first;
+            renderElementRow(e, (settings_.seed * 0x9E3779B97F4A7C15ull + e) * 2654435761u, shot.elementRows[missing[m]]);
         });
         for (std::size_t k : missing) {
             const std::uint32_t e = shot.picks[k].first;
@@ -293,14 +300,9 @@ void ProgressiveShooter::renderPickedRow(const std::vector<std::pair<std::uint32
         renderElementRow(picks[0].first, seed * rotationStream, row);
         return;
     }
-    // One row per pick, rendered in parallel: a shot with 16 picks (4 × 4 points each in a tight gap) would
-    // otherwise hold one thread for hundreds of hemicubes while the batch's other shots are long done. Isolated,
-    // so a thread waiting here only takes these picks' work, never another shot's (which would reuse its scratch).
     std::vector<FormFactorRow> perPick(picks.size());
-    tbb::this_task_arena::isolate([&] {
-        tbb::parallel_for(std::size_t(0), picks.size(), [&](std::size_t k) {
-            renderElementRow(picks[k].first, seed * rotationStream + k, perPick[k]);
-        });
+    forEachPickInParallel(picks.size(), [&](std::size_t k) {
+        renderElementRow(picks[k].first, seed * rotationStream + k, perPick[k]);
     });
     std::vector<std::pair<const FormFactorRow*, double>> rows;
     for (std::size_t k = 0; k < picks.size(); ++k) rows.emplace_back(&perPick[k], picks[k].second);
