@@ -1,6 +1,8 @@
 #pragma once
 // Per-face CPU culling of SceneBuffers chunks and the multi-draw of the survivors, shared by every renderer that
 // draws a scene upload from a point.
+#include <cstdint>
+#include <span>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -13,12 +15,31 @@ namespace hemibake {
 // Slack on chunk-box tests: covers float rounding of positions stored relative to the scene centre.
 inline float chunkBoundsSlack(const SceneBuffers& scene) { return static_cast<float>(1e-6 * scene.sceneDiagonalM()); }
 
-// Largest value of plane·(p − eye) over the chunk's box: the box lies outside the half-space when it is negative.
-inline float maxAlongPlane(const glm::vec3& plane, const SceneBuffers::Chunk& chunk, const glm::vec3& eye) {
-    const glm::vec3 corner(plane.x >= 0.0f ? chunk.boundsMax.x : chunk.boundsMin.x,
-                           plane.y >= 0.0f ? chunk.boundsMax.y : chunk.boundsMin.y,
-                           plane.z >= 0.0f ? chunk.boundsMax.z : chunk.boundsMin.z);
+// Largest value of plane·(p − eye) over the box: the box lies outside the half-space when it is negative.
+inline float maxAlongPlane(const glm::vec3& plane, const glm::vec3& boundsMin, const glm::vec3& boundsMax,
+                           const glm::vec3& eye) {
+    const glm::vec3 corner(plane.x >= 0.0f ? boundsMax.x : boundsMin.x, plane.y >= 0.0f ? boundsMax.y : boundsMin.y,
+                           plane.z >= 0.0f ? boundsMax.z : boundsMin.z);
     return glm::dot(plane, corner - eye);
+}
+inline float maxAlongPlane(const glm::vec3& plane, const SceneBuffers::Chunk& chunk, const glm::vec3& eye) {
+    return maxAlongPlane(plane, chunk.boundsMin, chunk.boundsMax, eye);
+}
+
+// Visits the chunk tree (SceneBuffers::chunkTree) from node n down with a face mask that only shrinks:
+// `test(n, node, faces)` returns the faces the subtree can still reach; where that is none, or at a leaf, `assign(node,
+// faces)` hands the mask to the node's chunks. One box test culls a whole subtree.
+template <class Test, class Assign>
+void cullChunkTree(std::span<const SceneBuffers::ChunkNode> tree, std::uint32_t n, std::uint8_t faces, Test& test,
+                   Assign& assign) {
+    const SceneBuffers::ChunkNode& node = tree[n];
+    faces = test(n, node, faces);
+    if (faces == 0 || node.chunkCount == 1) {
+        assign(node, faces);
+        return;
+    }
+    cullChunkTree(tree, n + 1, faces, test, assign);
+    cullChunkTree(tree, tree[n + 1].skip, faces, test, assign);
 }
 
 // The chunks one face draws, as the ranges of one glMultiDrawArrays: consecutive chunks merge into one range

@@ -167,11 +167,14 @@ HemicubeRenderer::HemicubeRenderer(const SceneBuffers& scene, int resolution, co
     radiance_.resize(weights_.pixelCount());
     accumulator_.assign(scene.elementCount(), 0.0);
     chunkFaces_.resize(scene.chunks().size());
-    chunkIsOccluder_.resize(scene.chunks().size());
+    chunkOccluderRound_.resize(scene.chunks().size());
+    nodeFaces_.resize(scene.chunkTree().size());
     occluderCandidates_.reserve(scene.chunks().size());
     runs_.firsts.reserve(scene.chunks().size());
     runs_.counts.reserve(scene.chunks().size());
 }
+
+constexpr std::uint8_t kAllFaces = (1u << HemicubeWeights::kFaceCount) - 1u;
 
 void HemicubeRenderer::draw(const HemicubeFrame& frame, Target target, glm::vec3 skyRadiance) {
     const GlFunctions& gl = scene_->context().gl();
@@ -203,21 +206,24 @@ void HemicubeRenderer::draw(const HemicubeFrame& frame, Target target, glm::vec3
         planes[face][3] = face == 0 ? glm::vec3(f + u) : glm::vec3(u);
     }
     const glm::vec3 horizon(normal);
-    for (std::size_t c = 0; c < chunks.size(); ++c) {
-        std::uint8_t mask = 0;
-        if (maxAlongPlane(horizon, chunks[c], eye) >= -slack)
-            for (int face = 0; face < HemicubeWeights::kFaceCount; ++face) {
-                bool visible = true;
+    auto inFrustum = [&](std::uint32_t, const SceneBuffers::ChunkNode& node, std::uint8_t faceMask) {
+        if (maxAlongPlane(horizon, node.boundsMin, node.boundsMax, eye) < -slack) return std::uint8_t(0);
+        for (int face = 0; face < HemicubeWeights::kFaceCount; ++face)
+            if (faceMask >> face & 1u)
                 for (const glm::vec3& plane : planes[face])
-                    visible = visible && maxAlongPlane(plane, chunks[c], eye) >= -slack;
-                if (visible) mask |= std::uint8_t(1u << face);
-            }
-        chunkFaces_[c] = mask;
-    }
+                    if (maxAlongPlane(plane, node.boundsMin, node.boundsMax, eye) < -slack) {
+                        faceMask &= std::uint8_t(~(1u << face));
+                        break;
+                    }
+        return faceMask;
+    };
+    auto assignFaces = [&](const SceneBuffers::ChunkNode& node, std::uint8_t faceMask) {
+        std::fill_n(chunkFaces_.begin() + node.firstChunk, node.chunkCount, faceMask);
+    };
+    if (!chunks.empty()) cullChunkTree(scene_->chunkTree(), 0, kAllFaces, inFrustum, assignFaces);
     gl.BindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
     gl.BindVertexArray(scene_->vertexArray());
     ++drawTotals_.hemicubes;
-    if (occlusion_.enabled && chunks.size() >= occlusion_.minChunks) cullOccludedChunks(eye, faces);
 
     const GLenum drawBuffers[2] = {items ? GLenum(GL_COLOR_ATTACHMENT0) : GLenum(GL_NONE),
                                    items ? GLenum(GL_NONE) : GLenum(GL_COLOR_ATTACHMENT1)};
@@ -247,10 +253,15 @@ void HemicubeRenderer::draw(const HemicubeFrame& frame, Target target, glm::vec3
             gl.ActiveTexture(GL_TEXTURE0);
         }
     }
+    // Occluders are drawn shaded, into the same buffers, before the rest: each chunk is drawn once.
+    std::fill(chunkOccluderRound_.begin(), chunkOccluderRound_.end(), std::uint8_t(0));
     lastChunksDrawn_ = 0;
+    if (occlusion_.enabled && chunks.size() >= occlusion_.minChunks)
+        lastChunksDrawn_ += cullOccludedChunks(eye, faces, uniforms);
     for (int face = 0; face < HemicubeWeights::kFaceCount; ++face)
-        lastChunksDrawn_ += drawChunks(faces[face], uniforms, [&](std::size_t c) { return chunkFaces_[c] >> face & 1u; },
-                                       drawTotals_.triangles);
+        lastChunksDrawn_ += drawChunks(
+            faces[face], uniforms, [&](std::size_t c) { return chunkOccluderRound_[c] == 0 && (chunkFaces_[c] >> face & 1u); },
+            drawTotals_.triangles);
     gl.BindVertexArray(0);
     gl.UseProgram(0);
 }
@@ -280,8 +291,9 @@ std::size_t HemicubeRenderer::drawChunks(const FaceProjection& face, const Unifo
     return drawn;
 }
 
-void HemicubeRenderer::cullOccludedChunks(const glm::vec3& eye,
-                                          const FaceProjection (&faces)[HemicubeWeights::kFaceCount]) {
+std::size_t HemicubeRenderer::cullOccludedChunks(const glm::vec3& eye,
+                                                 const FaceProjection (&faces)[HemicubeWeights::kFaceCount],
+                                                 const Uniforms& uniforms) {
     const auto chunks = scene_->chunks();
     // Occluders in order of how large they look: area / squared distance to the box (the eye inside a box puts it
     // first), among the chunks some face draws. On level_small this beat nearest-first by ~15 % per hemicube
@@ -296,51 +308,60 @@ void HemicubeRenderer::cullOccludedChunks(const glm::vec3& eye,
     }
     std::size_t batch =
         std::max<std::size_t>(1, static_cast<std::size_t>(occlusion_.occluderFraction * double(chunks.size())));
-    if (occluderCandidates_.size() <= 2 * batch) return;  // little left to hide: draw everything once
-    std::sort(occluderCandidates_.begin(), occluderCandidates_.end());
+    if (occluderCandidates_.size() <= 2 * batch) return 0;  // little left to hide: draw everything in one pass
 
     const GlFunctions& gl = scene_->context().gl();
-    const GLenum none[2] = {GL_NONE, GL_NONE};
-    gl.DrawBuffers(2, none);
-    beginReversedZPass(gl);
-    gl.Enable(GL_SCISSOR_TEST);
-    gl.UseProgram(itemProgram_.id());
-    gl.Uniform3f(itemUniforms_.eye, eye.x, eye.y, eye.z);
-    gl.Uniform1f(itemUniforms_.nearM, static_cast<float>(nearPlaneM_));
+    const auto tree = scene_->chunkTree();
     ++drawTotals_.occlusionCulledHemicubes;
     const float slack = chunkBoundsSlack(*scene_);
     const float nearM = static_cast<float>(nearPlaneM_);
 
-    // Rounds: draw the next batch of largest-looking chunks not yet hidden (depth only, accumulating), read the depth
-    // back, hide what lies behind it; batches double. Whatever is left after the last round is simply drawn.
-    std::size_t next = 0;
-    for (int round = 0; round < occlusion_.rounds && next < occluderCandidates_.size(); ++round, batch *= 2) {
-        std::fill(chunkIsOccluder_.begin(), chunkIsOccluder_.end(), std::uint8_t(0));
-        for (std::size_t taken = 0; taken < batch && next < occluderCandidates_.size(); ++next) {
-            const std::uint32_t c = occluderCandidates_[next].second;
-            if (chunkFaces_[c] == 0) continue;
-            chunkIsOccluder_[c] = 1;
-            ++taken;
-        }
+    // Rounds: draw the next batch of largest-looking chunks not yet hidden (accumulating), read the depth back, hide
+    // what lies behind it and drop it from the candidates; batches double. Whatever is left after the last round is
+    // drawn by the caller. A batch is drawn in chunk order, so it is selected (nth_element), not sorted.
+    std::size_t chunksDrawn = 0;
+    std::size_t next = 0;  // candidates before it are drawn
+    for (int round = 1; round <= occlusion_.rounds && next < occluderCandidates_.size(); ++round, batch *= 2) {
+        const std::size_t batchEnd = std::min(next + batch, occluderCandidates_.size());
+        const auto first = occluderCandidates_.begin();
+        std::nth_element(first + std::ptrdiff_t(next), first + std::ptrdiff_t(batchEnd), occluderCandidates_.end());
+        for (; next < batchEnd; ++next)
+            chunkOccluderRound_[occluderCandidates_[next].second] = static_cast<std::uint8_t>(round);
         std::uint64_t triangles = 0;
         for (int face = 0; face < HemicubeWeights::kFaceCount; ++face)
-            drawChunks(faces[face], itemUniforms_,
-                       [&](std::size_t c) { return chunkIsOccluder_[c] && (chunkFaces_[c] >> face & 1u); }, triangles);
+            chunksDrawn += drawChunks(
+                faces[face], uniforms,
+                [&](std::size_t c) { return chunkOccluderRound_[c] == round && (chunkFaces_[c] >> face & 1u); }, triangles);
         drawTotals_.triangles += triangles;
         drawTotals_.occluderTriangles += triangles;
         gl.ReadPixels(0, 0, weights_.atlasWidth(), weights_.atlasHeight(), GL_DEPTH_COMPONENT, GL_FLOAT,
                       depths_.data());
         depthPyramid_.build(depths_, weights_.atlasWidth(), weights_.atlasHeight());
-        for (std::size_t k = next; k < occluderCandidates_.size(); ++k) {
-            const std::uint32_t c = occluderCandidates_[k].second;
-            std::uint8_t& mask = chunkFaces_[c];
-            if (mask == 0) continue;
-            const glm::vec3 lo = chunks[c].boundsMin - slack, hi = chunks[c].boundsMax + slack;
-            for (int face = 0; face < HemicubeWeights::kFaceCount; ++face)
-                if ((mask >> face & 1u) && boxHiddenOnFace(lo, hi, eye, nearM, faces[face], depthPyramid_))
-                    mask &= std::uint8_t(~(1u << face));
+        // Down the chunk tree, over the faces some not-yet-drawn chunk of the subtree is still drawn on.
+        for (std::size_t n = tree.size(); n-- > 0;) {
+            const SceneBuffers::ChunkNode& node = tree[n];
+            nodeFaces_[n] = node.chunkCount == 1
+                                ? (chunkOccluderRound_[node.firstChunk] ? std::uint8_t(0) : chunkFaces_[node.firstChunk])
+                                : std::uint8_t(nodeFaces_[n + 1] | nodeFaces_[tree[n + 1].skip]);
         }
+        auto notHidden = [&](std::uint32_t n, const SceneBuffers::ChunkNode& node, std::uint8_t faceMask) {
+            faceMask &= nodeFaces_[n];
+            const glm::vec3 lo = node.boundsMin - slack, hi = node.boundsMax + slack;
+            for (int face = 0; face < HemicubeWeights::kFaceCount; ++face)
+                if ((faceMask >> face & 1u) && boxHiddenOnFace(lo, hi, eye, nearM, faces[face], depthPyramid_))
+                    faceMask &= std::uint8_t(~(1u << face));
+            return faceMask;
+        };
+        auto keepFaces = [&](const SceneBuffers::ChunkNode& node, std::uint8_t faceMask) {
+            for (std::uint32_t c = node.firstChunk; c < node.firstChunk + node.chunkCount; ++c) chunkFaces_[c] &= faceMask;
+        };
+        cullChunkTree(tree, 0, kAllFaces, notHidden, keepFaces);
+        std::size_t kept = next;
+        for (std::size_t k = next; k < occluderCandidates_.size(); ++k)
+            if (chunkFaces_[occluderCandidates_[k].second] != 0) occluderCandidates_[kept++] = occluderCandidates_[k];
+        occluderCandidates_.resize(kept);
     }
+    return chunksDrawn;
 }
 
 void HemicubeRenderer::renderFormFactors(const HemicubeFrame& frame, FormFactorList& out) {

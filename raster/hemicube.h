@@ -125,9 +125,11 @@ public:
 private:
     enum class Target { Items, Radiance };
     void draw(const HemicubeFrame& frame, Target target, glm::vec3 skyRadiance);
-    // Draws the occluders depth-only and clears the face bits of chunks hidden behind them (occlusion_culling.h).
-    void cullOccludedChunks(const glm::vec3& eye, const FaceProjection (&faces)[HemicubeWeights::kFaceCount]);
     struct Uniforms;
+    // Draws the occluders with the bound program (into the cleared target, marking them in chunkOccluderRound_) and
+    // clears the face bits of chunks hidden behind them (occlusion_culling.h). Returns the chunks drawn.
+    std::size_t cullOccludedChunks(const glm::vec3& eye, const FaceProjection (&faces)[HemicubeWeights::kFaceCount],
+                                   const Uniforms& uniforms);
     // One multi-draw of the chunks `keep(c)` accepts on `face` (runs merged); adds their triangles to
     // `triangles`; returns how many chunks.
     template <class Keep>
@@ -160,7 +162,8 @@ private:
     OcclusionCullingSettings occlusion_;
     DepthPyramid depthPyramid_;
     std::vector<std::pair<float, std::uint32_t>> occluderCandidates_;  // (−area / squared distance, chunk)
-    std::vector<std::uint8_t> chunkIsOccluder_;
+    std::vector<std::uint8_t> nodeFaces_;  // per chunk-tree node: the faces its undrawn chunks are still drawn on
+    std::vector<std::uint8_t> chunkOccluderRound_;  // per chunk: the culling round that drew it, 0 = not an occluder
     std::size_t lastChunksDrawn_ = 0;
     HemicubeDrawTotals drawTotals_;
 };

@@ -36,7 +36,7 @@ void DepthPyramid::build(std::span<const float> depth, int width, int height) {
 
 float DepthPyramid::minOver(int x0, int y0, int x1, int y1) const {
     std::size_t level = 0;
-    while (level + 1 < levels_.size() && ((x1 >> level) - (x0 >> level) > 3 || (y1 >> level) - (y0 >> level) > 3))
+    while (level + 1 < levels_.size() && ((x1 >> level) - (x0 >> level) > 7 || (y1 >> level) - (y0 >> level) > 7))
         ++level;
     const Level& l = levels_[level];
     float result = std::numeric_limits<float>::infinity();

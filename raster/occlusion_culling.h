@@ -1,11 +1,12 @@
 #pragma once
 // Conservative occlusion culling for hemicubes (issue 16): a hemicube in one room of a level should not draw the
-// other rooms. Each render first draws a few occluder chunks (the largest-looking ones: area / distance²) depth
-// only, reads that depth back, and keeps, per face, only the chunks whose bounding box is not entirely behind it
-// (a min-depth pyramid over the box's screen rectangle); a few rounds of that, each drawing twice as many of the
-// largest-looking chunks still kept. The final render then draws the survivors in their usual
-// order from a cleared depth buffer, so ids and gathers are identical to an unculled render: a culled chunk has
-// no fragment that could have passed the depth test, and the nearest occluder at every pixel always survives.
+// other rooms. Each render first draws a few occluder chunks (the largest-looking ones: area / distance²), shaded,
+// into its cleared target, reads the depth back, and keeps, per face, only the chunks whose bounding box is not
+// entirely behind it (a min-depth pyramid over the box's screen rectangle; whole subtrees of the chunk tree at
+// once); a few rounds of that, each drawing twice as many of the largest-looking chunks still kept. Then the
+// survivors not yet drawn are drawn on top. Every chunk is drawn at most once, and a culled chunk has no fragment
+// that could have passed the depth test, so ids and gathers equal an unculled render's except where two fragments
+// tie exactly in depth (coplanar overlapping faces): there the first drawn wins, and the occluders are drawn first.
 #include <cstddef>
 #include <span>
 #include <vector>
@@ -19,25 +20,26 @@ namespace hemibake {
 // What the renderer does before drawing. Typical values are the defaults.
 struct OcclusionCullingSettings {
     bool enabled = true;
-    // Scenes with fewer chunks than this are drawn frustum-culled only: with a few thousand triangles the extra
-    // depth pass and readback cost more than they save (SceneBuffers chunks hold 32 triangles).
+    // Scenes with fewer chunks than this are drawn frustum-culled only: with a few thousand triangles the
+    // readbacks cost more than culling saves (SceneBuffers chunks hold 16 triangles).
     std::size_t minChunks = 256;
     // The first round's occluders, as a fraction of the scene's chunks (at least one); each later round draws
-    // twice as many of the largest-looking chunks not yet hidden. Occluders are drawn twice (depth pass, then in the
-    // final render), so small first rounds waste least where little is hidden. level_small (46k triangles, R = 64):
-    // 0.005 … 0.02 with 2 … 4 rounds all gave 4.6 … 5.0 ms per item hemicube, against 8.0 ms unculled.
+    // twice as many of the largest-looking chunks not yet hidden. level_small (74k triangles, 32-triangle chunks,
+    // R = 64, occluders drawn once): 0.005 … 0.02 with 3 … 5 rounds all gave 2.5 … 2.8 ms per item hemicube
+    // (0.01 with 4 rounds: 2.5), 2 rounds with 0.005 gave 3.8 ms; unculled 8.6 ms.
     double occluderFraction = 0.01;
-    // Depth-pass rounds (each one flush and readback of the depth atlas).
-    int rounds = 3;
+    // Culling rounds (each one flush and readback of the depth atlas).
+    int rounds = 4;
 };
 
 // Min-reduction pyramid over a depth image (reversed-Z: smaller = farther, 0 = nothing drawn): minOver() gives a
-// value ≤ every depth in a pixel rectangle, reading at most 4×4 cells. Not thread-safe; reuse across renders.
+// value ≤ every depth in a pixel rectangle, reading at most 8×8 cells. Not thread-safe; reuse across renders.
 class DepthPyramid {
 public:
     // Rebuilds from `depth` (width × height, row-major). Allocates only when the size grows.
     void build(std::span<const float> depth, int width, int height);
-    // ≤ min depth over pixels [x0, x1] × [y0, y1] (inclusive, clamped by the caller to the image).
+    // ≤ min depth over pixels [x0, x1] × [y0, y1] (inclusive, clamped by the caller to the image), reading at most
+    // 8 × 8 cells of the finest level that allows it (8 × 8 rather than 4 × 4: 5 % fewer triangles drawn on level_small).
     float minOver(int x0, int y0, int x1, int y1) const;
 
 private:

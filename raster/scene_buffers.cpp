@@ -20,12 +20,28 @@ std::uint32_t packNormal(const glm::vec3& n) {
     return component(n.x) | (component(n.y) << 10) | (component(n.z) << 20);
 }
 
+void splitNode(std::vector<std::uint32_t>& order, std::size_t first, std::size_t last,
+               const std::vector<glm::dvec3>& centroids, std::size_t maxPerChunk,
+               std::vector<SceneBuffers::ChunkNode>& tree);
+
 // Median splits along the longest axis of the centroid bounds until a run fits in one chunk: leaves come out
 // in depth-first order, so chunks are spatially tight (good culling) and neighbouring chunks are usually
-// visible together (their vertex runs merge into one range of the multi-draw).
+// visible together (their vertex runs merge into one range of the multi-draw). Appends the split tree's nodes
+// (bounds left for the caller: they need the chunks' boxes).
 void splitIntoChunks(std::vector<std::uint32_t>& order, std::size_t first, std::size_t last,
-                     const std::vector<glm::dvec3>& centroids, std::size_t maxPerChunk) {
-    if (last - first <= maxPerChunk) return;
+                     const std::vector<glm::dvec3>& centroids, std::size_t maxPerChunk,
+                     std::vector<SceneBuffers::ChunkNode>& tree) {
+    const std::size_t node = tree.size();
+    tree.push_back(SceneBuffers::ChunkNode{glm::vec3(0.0f), glm::vec3(0.0f), static_cast<std::uint32_t>(first / maxPerChunk),
+                                           static_cast<std::uint32_t>((last - first + maxPerChunk - 1) / maxPerChunk), 0});
+    if (last - first > maxPerChunk) splitNode(order, first, last, centroids, maxPerChunk, tree);
+    tree[node].skip = static_cast<std::uint32_t>(tree.size());
+}
+
+// Splits [first, last) in two at a multiple of the chunk size along the longest axis of its centroids.
+void splitNode(std::vector<std::uint32_t>& order, std::size_t first, std::size_t last,
+               const std::vector<glm::dvec3>& centroids, std::size_t maxPerChunk,
+               std::vector<SceneBuffers::ChunkNode>& tree) {
     glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
     for (std::size_t k = first; k < last; ++k) {
         lo = glm::min(lo, centroids[order[k]]);
@@ -37,8 +53,8 @@ void splitIntoChunks(std::vector<std::uint32_t>& order, std::size_t first, std::
     const std::size_t half = first + ((last - first) / maxPerChunk + 1) / 2 * maxPerChunk;
     std::nth_element(order.begin() + first, order.begin() + half, order.begin() + last,
                      [&](std::uint32_t a, std::uint32_t b) { return centroids[a][axis] < centroids[b][axis]; });
-    splitIntoChunks(order, first, half, centroids, maxPerChunk);
-    splitIntoChunks(order, half, last, centroids, maxPerChunk);
+    splitIntoChunks(order, first, half, centroids, maxPerChunk, tree);
+    splitIntoChunks(order, half, last, centroids, maxPerChunk, tree);
 }
 
 }  // namespace
@@ -58,7 +74,7 @@ SceneBuffers::SceneBuffers(const GlContext& context, const PatchMesh& mesh, std:
     }
     std::vector<std::uint32_t> order(elementCount_);
     std::iota(order.begin(), order.end(), 0u);
-    splitIntoChunks(order, 0, elementCount_, centroids, trianglesPerChunk);
+    if (elementCount_ > 0) splitIntoChunks(order, 0, elementCount_, centroids, trianglesPerChunk, chunkTree_);
     order_ = order;
 
     struct Vertex {
@@ -85,6 +101,19 @@ SceneBuffers::SceneBuffers(const GlContext& context, const PatchMesh& mesh, std:
             }
         }
         chunks_.push_back(chunk);
+    }
+    // Children follow their parent in the tree: bounds from the leaves up.
+    for (std::size_t n = chunkTree_.size(); n-- > 0;) {
+        ChunkNode& node = chunkTree_[n];
+        if (node.chunkCount == 1) {
+            node.boundsMin = chunks_[node.firstChunk].boundsMin;
+            node.boundsMax = chunks_[node.firstChunk].boundsMax;
+        } else {
+            const ChunkNode& left = chunkTree_[n + 1];
+            const ChunkNode& right = chunkTree_[left.skip];
+            node.boundsMin = glm::min(left.boundsMin, right.boundsMin);
+            node.boundsMax = glm::max(left.boundsMax, right.boundsMax);
+        }
     }
 
     auto bound = context.bind();

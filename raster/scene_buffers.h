@@ -32,7 +32,7 @@ struct TexelLight {
 
 class SceneBuffers {
 public:
-    static constexpr std::uint32_t kDefaultTrianglesPerChunk = 32;
+    static constexpr std::uint32_t kDefaultTrianglesPerChunk = 16;
 
     struct Chunk {
         glm::vec3 boundsMin;  // relative to origin()
@@ -40,6 +40,17 @@ public:
         GLint firstVertex;
         GLsizei vertexCount;
         float areaM2;  // of its triangles: how much an occluder it can be
+    };
+
+    // The median-split tree the chunks came from, depth-first: node i's chunks are [firstChunk, firstChunk +
+    // chunkCount); an inner node's children are node i + 1 and node (i + 1).skip, and skip is the first node after
+    // i's subtree. One box test can cull a whole subtree (a room's chunks behind one wall).
+    struct ChunkNode {
+        glm::vec3 boundsMin;  // relative to origin(), the union of its chunks' boxes
+        glm::vec3 boundsMax;
+        std::uint32_t firstChunk;
+        std::uint32_t chunkCount;
+        std::uint32_t skip;
     };
 
     // `context` must outlive this object; binds it while uploading.
@@ -58,6 +69,7 @@ public:
     const GlContext& context() const { return *context_; }
     std::size_t elementCount() const { return elementCount_; }
     std::span<const Chunk> chunks() const { return chunks_; }
+    std::span<const ChunkNode> chunkTree() const { return chunkTree_; }  // node 0 is the root
     // Element drawn as triangle k (a chunk holds triangles firstVertex/3 … (firstVertex + vertexCount)/3 − 1).
     std::span<const std::uint32_t> drawOrder() const { return order_; }
     const glm::dvec3& origin() const { return origin_; }
@@ -75,6 +87,7 @@ private:
     glm::dvec3 origin_{0.0};
     double sceneDiagonalM_ = 0.0;
     std::vector<Chunk> chunks_;
+    std::vector<ChunkNode> chunkTree_;
     GlObject vertexBuffer_;
     GlObject vertexArray_;
     GlObject radianceBuffer_;
