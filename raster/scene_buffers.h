@@ -32,6 +32,8 @@ struct TexelLight {
 
 class SceneBuffers {
 public:
+    // Smaller chunks cull tighter and cost more box tests: on level_clean's bake 8, 16 and 32 took the same time
+    // (docs/performance.md, "Each chunk drawn once"); 16 draws 0.19 of the level per hemicube where 32 draws 0.26.
     static constexpr std::uint32_t kDefaultTrianglesPerChunk = 16;
 
     struct Chunk {
