@@ -22,9 +22,6 @@ inline float maxAlongPlane(const glm::vec3& plane, const glm::vec3& boundsMin, c
                            plane.z >= 0.0f ? boundsMax.z : boundsMin.z);
     return glm::dot(plane, corner - eye);
 }
-inline float maxAlongPlane(const glm::vec3& plane, const SceneBuffers::Chunk& chunk, const glm::vec3& eye) {
-    return maxAlongPlane(plane, chunk.boundsMin, chunk.boundsMax, eye);
-}
 
 // Visits the chunk tree (SceneBuffers::chunkTree) from node n down with a face mask that only shrinks:
 // `test(n, node, faces)` returns the faces the subtree can still reach; where that is none, or at a leaf, `assign(node,

@@ -133,13 +133,18 @@ void CubeMapRenderer::render(const glm::dvec3& position, glm::vec3 skyRadiance, 
         const glm::vec3 f(b.forward), r(b.right), u(b.up);
         const glm::vec3 planes[4] = {f - r, f + r, f - u, f + u};
         runs_.clear();
-        for (const SceneBuffers::Chunk& chunk : chunks) {
-            bool visible = true;
-            for (const glm::vec3& plane : planes) visible = visible && maxAlongPlane(plane, chunk, eye) >= -slack;
-            if (!visible) continue;
+        // Down the chunk tree (leaves come in chunk order, so runs merge as before); a box outside drops its subtree.
+        auto inFrustum = [&](std::uint32_t, const SceneBuffers::ChunkNode& node, std::uint8_t faceMask) {
+            for (const glm::vec3& plane : planes)
+                if (maxAlongPlane(plane, node.boundsMin, node.boundsMax, eye) < -slack) return std::uint8_t(0);
+            return faceMask;
+        };
+        auto addChunk = [&](const SceneBuffers::ChunkNode& node, std::uint8_t faceMask) {
+            if (faceMask == 0) return;
             ++lastChunksDrawn_;
-            runs_.add(chunk);
-        }
+            runs_.add(chunks[node.firstChunk]);
+        };
+        if (!chunks.empty()) cullChunkTree(scene_->chunkTree(), 0, std::uint8_t(1), inFrustum, addChunk);
         if (runs_.empty()) continue;
         const GLfloat rows[9] = {r.x, r.y, r.z, u.x, u.y, u.z, f.x, f.y, f.z};
         gl.UniformMatrix3fv(faceRowsUniform_, 1, GL_TRUE, rows);

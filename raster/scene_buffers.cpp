@@ -20,10 +20,6 @@ std::uint32_t packNormal(const glm::vec3& n) {
     return component(n.x) | (component(n.y) << 10) | (component(n.z) << 20);
 }
 
-void splitNode(std::vector<std::uint32_t>& order, std::size_t first, std::size_t last,
-               const std::vector<glm::dvec3>& centroids, std::size_t maxPerChunk,
-               std::vector<SceneBuffers::ChunkNode>& tree);
-
 // Median splits along the longest axis of the centroid bounds until a run fits in one chunk: leaves come out
 // in depth-first order, so chunks are spatially tight (good culling) and neighbouring chunks are usually
 // visible together (their vertex runs merge into one range of the multi-draw). Appends the split tree's nodes
@@ -34,27 +30,22 @@ void splitIntoChunks(std::vector<std::uint32_t>& order, std::size_t first, std::
     const std::size_t node = tree.size();
     tree.push_back(SceneBuffers::ChunkNode{glm::vec3(0.0f), glm::vec3(0.0f), static_cast<std::uint32_t>(first / maxPerChunk),
                                            static_cast<std::uint32_t>((last - first + maxPerChunk - 1) / maxPerChunk), 0});
-    if (last - first > maxPerChunk) splitNode(order, first, last, centroids, maxPerChunk, tree);
-    tree[node].skip = static_cast<std::uint32_t>(tree.size());
-}
-
-// Splits [first, last) in two at a multiple of the chunk size along the longest axis of its centroids.
-void splitNode(std::vector<std::uint32_t>& order, std::size_t first, std::size_t last,
-               const std::vector<glm::dvec3>& centroids, std::size_t maxPerChunk,
-               std::vector<SceneBuffers::ChunkNode>& tree) {
-    glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
-    for (std::size_t k = first; k < last; ++k) {
-        lo = glm::min(lo, centroids[order[k]]);
-        hi = glm::max(hi, centroids[order[k]]);
+    if (last - first > maxPerChunk) {
+        glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+        for (std::size_t k = first; k < last; ++k) {
+            lo = glm::min(lo, centroids[order[k]]);
+            hi = glm::max(hi, centroids[order[k]]);
+        }
+        const glm::dvec3 extent = hi - lo;
+        const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
+        // Split on a multiple of the chunk size so that every leaf but the last is full.
+        const std::size_t half = first + ((last - first) / maxPerChunk + 1) / 2 * maxPerChunk;
+        std::nth_element(order.begin() + first, order.begin() + half, order.begin() + last,
+                         [&](std::uint32_t a, std::uint32_t b) { return centroids[a][axis] < centroids[b][axis]; });
+        splitIntoChunks(order, first, half, centroids, maxPerChunk, tree);
+        splitIntoChunks(order, half, last, centroids, maxPerChunk, tree);
     }
-    const glm::dvec3 extent = hi - lo;
-    const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
-    // Split on a multiple of the chunk size so that every leaf but the last is full.
-    const std::size_t half = first + ((last - first) / maxPerChunk + 1) / 2 * maxPerChunk;
-    std::nth_element(order.begin() + first, order.begin() + half, order.begin() + last,
-                     [&](std::uint32_t a, std::uint32_t b) { return centroids[a][axis] < centroids[b][axis]; });
-    splitIntoChunks(order, first, half, centroids, maxPerChunk, tree);
-    splitIntoChunks(order, half, last, centroids, maxPerChunk, tree);
+    tree[node].skip = static_cast<std::uint32_t>(tree.size());
 }
 
 }  // namespace
