@@ -44,11 +44,19 @@ DirectLight::DirectLight(const Scene& scene, const EmbreeScene& rays, DirectLigh
 }
 
 glm::dvec3 DirectLight::irradianceOverPiAt(const glm::dvec3& p, const glm::vec3& n, std::uint32_t seed) const {
-    const glm::dvec3 normal = glm::normalize(glm::dvec3(n));
+    return irradianceOverPiAt(p, glm::normalize(glm::dvec3(n)), seed, nullptr);
+}
+
+glm::dvec3 DirectLight::irradianceOverPiAt(const glm::dvec3& p, const glm::dvec3& normal, std::uint32_t seed,
+                                           const EmissiveAreaLights::ReceiverView* view) const {
     glm::dvec3 sum(0.0);
     if (settings_.punctualLights)
         for (const PunctualLight& light : scene_.lights) sum += fromLight(light, p, normal, seed);
-    if (areaLights_) sum += areaLights_->irradianceOverPiAt(p, normal, std::uint64_t(seed) * 0x9E3779B97F4A7C15ull + 1);
+    if (areaLights_) {
+        const std::uint64_t areaSeed = std::uint64_t(seed) * 0x9E3779B97F4A7C15ull + 1;
+        sum += view ? areaLights_->irradianceOverPiAt(p, normal, areaSeed, *view)
+                    : areaLights_->irradianceOverPiAt(p, normal, areaSeed);
+    }
     return sum;
 }
 
@@ -120,14 +128,20 @@ glm::dvec3 DirectLight::elementIrradianceOverPi(const PatchMesh& patches, std::s
     const ElementArrays& e = patches.elements;
     const auto& tri = e.triangles.at(element);
     const glm::dvec3 a = e.vertices[tri[0]], b = e.vertices[tri[1]], c = e.vertices[tri[2]];
-    const glm::vec3 n = e.normal[element];
+    const glm::dvec3 n = glm::normalize(glm::dvec3(e.normal[element]));
     const int k = int(std::ceil(std::sqrt(double(samplesPerElement))));
+    // The emitters far from the element are evaluated once for all its points.
+    thread_local EmissiveAreaLights::ReceiverView view;
+    if (areaLights_) {
+        const glm::dvec3 receiver[3] = {a, b, c};
+        areaLights_->viewFrom(receiver, n, view);
+    }
 
     glm::dvec3 sum(0.0);
     std::uint32_t index = 0;
     auto sample = [&](double wa, double wb) {
         const std::uint32_t seed = hash(std::uint32_t(element), index++);
-        sum += irradianceOverPiAt(wa * a + wb * b + (1.0 - wa - wb) * c, n, seed);
+        sum += irradianceOverPiAt(wa * a + wb * b + (1.0 - wa - wb) * c, n, seed, areaLights_ ? &view : nullptr);
     };
     forEachSubTriangleCentroid(k, sample);
     return sum / double(k * k);

@@ -8,6 +8,7 @@
 
 #include <glm/glm.hpp>
 
+#include "baker/direct/emissive_area_lights.h"
 #include "baker/rays/embree_scene.h"
 #include "mesh/patches.h"
 #include "mesh/scene.h"
@@ -22,8 +23,6 @@ struct DirectLightSettings {
     bool useRange = false;  // honour PunctualLight::range with the KHR_lights_punctual window
     bool punctualLights = true;  // false: only the area lights (the solver's power ledger keeps them apart)
 };
-
-class EmissiveAreaLights;
 
 class DirectLight {
 public:
@@ -43,6 +42,9 @@ public:
     const DirectLightSettings& settings() const { return settings_; }
 
 private:
+    // irradianceOverPiAt with the area lights seen from `view` (a receiver holding p) when given.
+    glm::dvec3 irradianceOverPiAt(const glm::dvec3& p, const glm::dvec3& n, std::uint32_t seed,
+                                  const EmissiveAreaLights::ReceiverView* view) const;
     glm::dvec3 fromLight(const PunctualLight& light, const glm::dvec3& p, const glm::dvec3& n, std::uint32_t seed) const;
     double sunVisibility(const glm::dvec3& origin, const glm::dvec3& n, const glm::dvec3& toSun, std::uint32_t seed) const;
 

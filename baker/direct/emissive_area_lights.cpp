@@ -41,6 +41,13 @@ double radicalInverse2(std::uint32_t i) {
     return double(i) * 0x1p-32;
 }
 
+// Receiver–emitter distances, in units of the sum of their bounding radii, past which an emitter triangle's form
+// factor is taken as one value over the receiver: the mean of the receiver's edge midpoints beyond
+// kPerPointDistance, a point source beyond kPointSourceDistance. Errors measured against per-point contours:
+// tests/baker/direct/emissive_area_lights_test.cpp (FarEmittersAreOneValuePerElement).
+constexpr double kPerPointDistance = 4.0;
+constexpr double kPointSourceDistance = 24.0;
+
 }  // namespace
 
 EmissiveAreaLights::EmissiveAreaLights(const PatchMesh& mesh, const EmbreeScene& rays, int samplesPerPoint)
@@ -57,6 +64,8 @@ EmissiveAreaLights::EmissiveAreaLights(const PatchMesh& mesh, const EmbreeScene&
         t.normal = twiceArea > 0.0 ? cross / twiceArea : glm::dvec3(0.0);
         t.areaM2 = 0.5 * twiceArea;
         t.radiance = radiance;
+        t.centroid = (a + b + c) / 3.0;
+        t.radiusM = std::max({glm::length(a - t.centroid), glm::length(b - t.centroid), glm::length(c - t.centroid)});
         return t;
     };
     // The cost per point is one contour integral per triangle, so the elements bisected from one input triangle are
@@ -135,16 +144,82 @@ double EmissiveAreaLights::unoccludedFormFactor(const glm::dvec3& p, const glm::
     return std::max(0.0, std::abs(sum) / (2.0 * M_PI));
 }
 
+void EmissiveAreaLights::viewFrom(const glm::dvec3 (&receiver)[3], const glm::dvec3& n, ReceiverView& view) const {
+    view.perPoint.clear();
+    view.constant.clear();
+    view.constantCdf.clear();
+    view.constantUnoccluded = glm::dvec3(0.0);
+    const glm::dvec3 centroid = (receiver[0] + receiver[1] + receiver[2]) / 3.0;
+    const double radiusM = std::max({glm::length(receiver[0] - centroid), glm::length(receiver[1] - centroid),
+                                     glm::length(receiver[2] - centroid)});
+    const glm::dvec3 midpoints[3] = {0.5 * (receiver[0] + receiver[1]), 0.5 * (receiver[1] + receiver[2]),
+                                     0.5 * (receiver[2] + receiver[0])};
+    double total = 0.0;
+    for (std::size_t i = 0; i < triangles_.size(); ++i) {
+        const Triangle& t = triangles_[i];
+        // Which side of each other's plane the two lie on. Wholly behind either: nothing at any point (as the
+        // per-point test and clipping find). Straddling either: per point, where the clipping changes.
+        int inFront = 0, behind = 0;
+        for (const glm::dvec3& r : receiver) {
+            const double s = glm::dot(r - t.a, t.normal);
+            inFront += s > 0.0;
+            behind += !(s > 0.0);
+        }
+        if (inFront == 0) continue;
+        int above = 0, below = 0;
+        for (const glm::dvec3& v : {t.a, t.b, t.c}) {
+            const double s = glm::dot(v - centroid, n);
+            above += s > 0.0;
+            below += s < 0.0;
+        }
+        if (above == 0) continue;
+        const double distanceM = glm::length(t.centroid - centroid);
+        const double extentM = radiusM + t.radiusM;
+        if (behind > 0 || below > 0 || distanceM < kPerPointDistance * extentM) {
+            view.perPoint.push_back(std::uint32_t(i));
+            continue;
+        }
+        double f;
+        if (distanceM >= kPointSourceDistance * extentM) {
+            // A point source at the centroid: F = A·cosθ_r·cosθ_t / (π d²), relative error O((extent/d)²).
+            const glm::dvec3 d = (t.centroid - centroid) / distanceM;
+            f = t.areaM2 * glm::dot(n, d) * -glm::dot(t.normal, d) / (M_PI * distanceM * distanceM);
+        } else if (!(radiusM > 0.0)) {
+            const glm::dvec3 v[3] = {t.a, t.b, t.c};
+            f = unoccludedFormFactor(centroid, n, v, 3);
+        } else {
+            const glm::dvec3 v[3] = {t.a, t.b, t.c};
+            f = (unoccludedFormFactor(midpoints[0], n, v, 3) + unoccludedFormFactor(midpoints[1], n, v, 3) +
+                 unoccludedFormFactor(midpoints[2], n, v, 3)) / 3.0;
+        }
+        if (!(f > 0.0)) continue;
+        view.constantUnoccluded += f * t.radiance;
+        total += f * luminance(t.radiance);
+        view.constant.push_back(std::uint32_t(i));
+        view.constantCdf.push_back(total);
+    }
+}
+
 glm::dvec3 EmissiveAreaLights::irradianceOverPiAt(const glm::dvec3& p, const glm::dvec3& n, std::uint64_t seed) const {
     if (triangles_.empty()) return glm::dvec3(0.0);
-    // Unoccluded contribution of each triangle facing p; the sampling distribution follows its luminance.
+    thread_local ReceiverView view;
+    const glm::dvec3 point[3] = {p, p, p};
+    viewFrom(point, n, view);
+    return irradianceOverPiAt(p, n, seed, view);
+}
+
+glm::dvec3 EmissiveAreaLights::irradianceOverPiAt(const glm::dvec3& p, const glm::dvec3& n, std::uint64_t seed,
+                                                  const ReceiverView& view) const {
+    if (triangles_.empty()) return glm::dvec3(0.0);
+    // Unoccluded contribution of each triangle facing p; the sampling distribution follows its luminance. The
+    // CDF runs over the per-point triangles first, then over the receiver's constant ones.
     thread_local std::vector<double> cdf;
     thread_local std::vector<std::uint32_t> index;
     cdf.clear();
     index.clear();
-    glm::dvec3 unoccluded(0.0);
+    glm::dvec3 unoccluded = view.constantUnoccluded;
     double total = 0.0;
-    for (std::size_t i = 0; i < triangles_.size(); ++i) {
+    for (std::uint32_t i : view.perPoint) {
         const Triangle& t = triangles_[i];
         if (!(glm::dot(p - t.a, t.normal) > 0.0)) continue;  // p is behind the emitting side
         const glm::dvec3 v[3] = {t.a, t.b, t.c};
@@ -153,9 +228,26 @@ glm::dvec3 EmissiveAreaLights::irradianceOverPiAt(const glm::dvec3& p, const glm
         unoccluded += f * t.radiance;
         total += f * luminance(t.radiance);
         cdf.push_back(total);
-        index.push_back(std::uint32_t(i));
+        index.push_back(i);
     }
+    const double perPointTotal = total;
+    if (!view.constantCdf.empty()) total += view.constantCdf.back();
     if (!(total > 0.0)) return glm::dvec3(0.0);
+
+    // The stratum's triangle: its index and its [below, above) share of the CDF.
+    struct Pick {
+        std::uint32_t triangle;
+        double below, above;
+    };
+    auto pickAt = [&](double target) {
+        const bool perPoint = !cdf.empty() && (target < perPointTotal || view.constantCdf.empty());
+        const std::vector<double>& c = perPoint ? cdf : view.constantCdf;
+        const std::vector<std::uint32_t>& ids = perPoint ? index : view.constant;
+        const double offset = perPoint ? 0.0 : perPointTotal;
+        const std::size_t k = std::min<std::size_t>(
+            std::size_t(std::upper_bound(c.begin(), c.end(), target - offset) - c.begin()), c.size() - 1);
+        return Pick{ids[k], offset + (k ? c[k - 1] : 0.0), offset + c[k]};
+    };
 
     const glm::dvec3 origin = rays_.offsetFromSurface(p, n);
     glm::dvec3 weighted(0.0), visible(0.0);
@@ -163,15 +255,14 @@ glm::dvec3 EmissiveAreaLights::irradianceOverPiAt(const glm::dvec3& p, const glm
     const double rotation = unitDouble(state = splitMix64(state));
     for (int s = 0; s < samples_; ++s) {
         const double u = (s + unitDouble(state = splitMix64(state))) / samples_;  // stratified over the CDF
-        const std::size_t pick = std::min<std::size_t>(
-            std::size_t(std::upper_bound(cdf.begin(), cdf.end(), u * total) - cdf.begin()), cdf.size() - 1);
-        const Triangle& t = triangles_[index[pick]];
-        const double below = pick ? cdf[pick - 1] : 0.0;
-        const double pdf = (cdf[pick] - below) / total;
+        const Pick pick = pickAt(u * total);
+        const Triangle& t = triangles_[pick.triangle];
+        const double pdf = (pick.above - pick.below) / total;
         // Points spread over the triangle, not only over the triangles: the stratum's place within the triangle's
         // share of the CDF (stratified) and a rotated radical inverse (Hammersley-like), so a lamp that is one
         // triangle keeps its penumbrae as smooth as the same lamp split into many elements.
-        const double r1 = std::clamp((u * total - below) / std::max(cdf[pick] - below, 1e-300), 0.0, std::nextafter(1.0, 0.0));
+        const double r1 = std::clamp((u * total - pick.below) / std::max(pick.above - pick.below, 1e-300), 0.0,
+                                     std::nextafter(1.0, 0.0));
         const double r2 = std::fmod(radicalInverse2(std::uint32_t(s)) + rotation, 1.0);
         const double sq = std::sqrt(r1);
         const glm::dvec3 x = (1.0 - sq) * t.a + sq * (1.0 - r2) * t.b + sq * r2 * t.c;

@@ -2,15 +2,19 @@
 // Lambert's formula (exact), shadows come from real Embree rays, and the solver that uses it still solves
 // the furnace and keeps the power ledger.
 #include <cmath>
+#include <cstdio>
 
 #include <gtest/gtest.h>
 
 #include "baker/solve/solve_scene.h"
 
+#include "baker/direct/direct_light.h"
 #include "baker/direct/emissive_area_lights.h"
 #include "baker/rays/embree_scene.h"
 #include "mesh/scene_builder.h"
 #include "mesh/subdivision.h"
+#include "mesh/frame_math.h"
+#include "mesh/triangle_sampling.h"
 #include "support/solver_fixture.h"
 
 using namespace hemibake;
@@ -220,4 +224,79 @@ TEST(EmissiveAreaLights, CubeEmittingOnEveryFaceStaysRayTraced) {
     }
     const glm::dvec3 mean = sum / area / M_PI;
     for (int ch = 0; ch < 3; ++ch) EXPECT_NEAR(mean[ch], 10.0, 0.005 * 10.0);
+}
+
+// Emitter triangles far from a receiving element are one value over it (the mean of its edge midpoints, or a point
+// source farther out) instead of a contour per point. Unoccluded, the element's value is the mean of the exact
+// per-point contours over its points (known answer): small triangles scattered from 0.3 m to 40 m away, some tilted
+// so that they face part of the floor only.
+TEST(EmissiveAreaLights, FarEmittersAreOneValuePerElement) {
+    SceneBuilder b("scattered lamps over a floor");
+    const int black = b.addMaterial(glm::vec3(0.0f), glm::vec3(0.0f), false, "black");
+    const int lamp = b.addMaterial(glm::vec3(0.0f), glm::vec3(5.0f), false, "lamp");
+    b.addQuad({0, 0, 0}, {0, 0, 4}, {4, 0, 4}, {4, 0, 0}, black, "floor");
+    struct Lamp {
+        glm::dvec3 a, b, c;
+    };
+    std::vector<Lamp> lamps;
+    std::uint64_t state = 12345;
+    auto uniform = [&] { return double(splitMix64(state += 0x9E3779B97F4A7C15ull) >> 11) * 0x1.0p-53; };
+    for (int i = 0; i < 120; ++i) {
+        const double distance = 0.3 * std::pow(40.0 / 0.3, uniform());  // log-uniform from 0.3 to 40 m
+        const double angle = 2.0 * M_PI * uniform();
+        const glm::dvec3 centre(2.0 + distance * std::cos(angle) * uniform(), 0.2 + distance * (0.1 + 0.9 * uniform()),
+                                2.0 + distance * std::sin(angle) * uniform());
+        const double size = 0.05 + 0.4 * uniform();
+        const glm::dvec3 tilt(uniform() - 0.5, 0.0, uniform() - 0.5);  // normals from straight down to ~35° off
+        glm::dvec3 t, s;
+        orthonormalBasis(glm::normalize(glm::dvec3(0, -1, 0) + tilt), t, s);
+        // Counter-clockwise seen from below, so the triangle emits downwards (towards the floor).
+        lamps.push_back({centre + size * t, centre + size * (-0.5 * t - 0.866 * s), centre + size * (-0.5 * t + 0.866 * s)});
+        if (glm::dot(glm::cross(lamps.back().b - lamps.back().a, lamps.back().c - lamps.back().a), glm::dvec3(0, 1, 0)) > 0.0)
+            std::swap(lamps.back().b, lamps.back().c);
+        b.addTriangles({lamps.back().a, lamps.back().b, lamps.back().c}, {{0, 1, 2}}, lamp, "lamp");
+    }
+    const Scene scene = b.build();
+    SceneBuilder floorOnly("floor");
+    floorOnly.addQuad({0, 0, 0}, {0, 0, 4}, {4, 0, 4}, {4, 0, 0}, floorOnly.addMaterial(glm::vec3(0.0f)), "floor");
+    const Scene unoccluded = floorOnly.build();
+    const EmbreeScene rays(unoccluded);  // nothing between the floor and the lamps: every shadow ray is visible
+    const PatchMesh mesh = subdivide(scene, SubdivisionSettings{1.0, 0.5, 0.0});
+    const EmissiveAreaLights lights(mesh, rays, 4);
+    ASSERT_EQ(lights.triangleCount(), lamps.size());
+    DirectLightSettings ds;
+    ds.punctualLights = false;
+    const DirectLight direct(scene, rays, ds, &lights);
+
+    const int samplesPerElement = 64, k = 8;
+    double worst = 0.0, worstPoint = 0.0;
+    std::size_t floorElements = 0;
+    for (std::size_t e = 0; e < mesh.elements.size(); ++e) {
+        if (mesh.elements.normal[e].y < 0.5f) continue;
+        ++floorElements;
+        const glm::dvec3 n(0, 1, 0);
+        double exact = 0.0;
+        int points = 0;
+        forEachSubTriangleCentroid(k, [&](double wa, double wb) {
+            const glm::dvec3 p = pointOnElement(mesh.elements, e, wa, wb);
+            double sum = 0.0, approximate;
+            for (const Lamp& l : lamps) {
+                const glm::dvec3 normal = glm::normalize(glm::cross(l.b - l.a, l.c - l.a));
+                if (!(glm::dot(p - l.a, normal) > 0.0)) continue;
+                const glm::dvec3 v[3] = {l.a, l.b, l.c};
+                sum += 5.0 * EmissiveAreaLights::unoccludedFormFactor(p, n, v, 3);
+            }
+            exact += sum;
+            ++points;
+            approximate = lights.irradianceOverPiAt(p, n, 3).x;  // a point alone: point sources beyond 24 radii
+            worstPoint = std::max(worstPoint, std::abs(approximate - sum) / sum);
+        });
+        exact /= points;
+        const double got = direct.elementIrradianceOverPi(mesh, e, samplesPerElement).x;
+        worst = std::max(worst, std::abs(got - exact) / exact);
+    }
+    ASSERT_GT(floorElements, 30u);
+    std::printf("worst element %.3g, worst point %.3g\n", worst, worstPoint);
+    EXPECT_LT(worst, 1e-3);
+    EXPECT_LT(worstPoint, 1e-3);
 }
