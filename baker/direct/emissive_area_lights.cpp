@@ -68,7 +68,7 @@ EmissiveAreaLights::EmissiveAreaLights(const PatchMesh& mesh, const EmbreeScene&
         t.radiusM = std::max({glm::length(a - t.centroid), glm::length(b - t.centroid), glm::length(c - t.centroid)});
         return t;
     };
-    // The cost per point is one contour integral per triangle, so the elements bisected from one input triangle are
+    // The cost per receiver grows with the triangles (a test each, a contour for the near ones), so the elements bisected from one input triangle are
     // merged back into it: an emitting face cut into 1,000 elements is still one light. A group is merged only when
     // its elements tile a triangle exactly (their areas sum to the area of the triangle spanned by their extreme
     // vertices, and they share one plane and one radiance); faces cut along solids or trimmed to their exposed

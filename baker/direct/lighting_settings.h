@@ -18,7 +18,8 @@ struct LightingSettings {
     EmitterLighting emitters = EmitterLighting::Hemicube;
     int emitterSamples = 16;            // shadow rays per point towards emissive surfaces (Rays); presets 64–4096
     int maxRayTracedEmitters = 4096;    // more emitter triangles than this (input triangles; elements where a face was
-                                        // cut or trimmed): fall back to Hemicube (cost per point)
+                                        // cut or trimmed): fall back to Hemicube (every receiver tests
+                                        // every triangle; 300k-triangle levels would cross it: not measured)
     glm::vec3 skyRadiance{0.0f};        // uniform sky, W·m⁻²·sr⁻¹, seen where rays and hemicube pixels escape
     // Cosine-weighted visibility rays per element for direct sky light, spread over its lightSamplesPerElement
     // points. A room lit through windows has only some hundred elements, so their noise does not average out:
