@@ -48,6 +48,16 @@ double radicalInverse2(std::uint32_t i) {
 constexpr double kPerPointDistance = 4.0;
 constexpr double kPointSourceDistance = 24.0;
 
+// The sphere about a triangle's centroid that holds it (the distances above are measured between these).
+struct BoundingSphere {
+    glm::dvec3 centre;
+    double radiusM;
+};
+BoundingSphere boundingSphere(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
+    const glm::dvec3 centre = (a + b + c) / 3.0;
+    return {centre, std::max({glm::length(a - centre), glm::length(b - centre), glm::length(c - centre)})};
+}
+
 }  // namespace
 
 EmissiveAreaLights::EmissiveAreaLights(const PatchMesh& mesh, const EmbreeScene& rays, int samplesPerPoint)
@@ -64,12 +74,14 @@ EmissiveAreaLights::EmissiveAreaLights(const PatchMesh& mesh, const EmbreeScene&
         t.normal = twiceArea > 0.0 ? cross / twiceArea : glm::dvec3(0.0);
         t.areaM2 = 0.5 * twiceArea;
         t.radiance = radiance;
-        t.centroid = (a + b + c) / 3.0;
-        t.radiusM = std::max({glm::length(a - t.centroid), glm::length(b - t.centroid), glm::length(c - t.centroid)});
+        const BoundingSphere sphere = boundingSphere(a, b, c);
+        t.centroid = sphere.centre;
+        t.radiusM = sphere.radiusM;
         return t;
     };
-    // The cost per receiver grows with the triangles (a test each, a contour for the near ones), so the elements bisected from one input triangle are
-    // merged back into it: an emitting face cut into 1,000 elements is still one light. A group is merged only when
+    // The cost per receiver grows with the triangles (a test each, a contour for the near ones), so the elements
+    // bisected from one input triangle are merged back into it: an emitting face cut into 1,000 elements is still
+    // one light. A group is merged only when
     // its elements tile a triangle exactly (their areas sum to the area of the triangle spanned by their extreme
     // vertices, and they share one plane and one radiance); faces cut along solids or trimmed to their exposed
     // area stay as their elements.
@@ -149,9 +161,7 @@ void EmissiveAreaLights::viewFrom(const glm::dvec3 (&receiver)[3], const glm::dv
     view.constant.clear();
     view.constantCdf.clear();
     view.constantUnoccluded = glm::dvec3(0.0);
-    const glm::dvec3 centroid = (receiver[0] + receiver[1] + receiver[2]) / 3.0;
-    const double radiusM = std::max({glm::length(receiver[0] - centroid), glm::length(receiver[1] - centroid),
-                                     glm::length(receiver[2] - centroid)});
+    const auto [centroid, radiusM] = boundingSphere(receiver[0], receiver[1], receiver[2]);
     const glm::dvec3 midpoints[3] = {0.5 * (receiver[0] + receiver[1]), 0.5 * (receiver[1] + receiver[2]),
                                      0.5 * (receiver[2] + receiver[0])};
     double total = 0.0;
@@ -179,16 +189,15 @@ void EmissiveAreaLights::viewFrom(const glm::dvec3 (&receiver)[3], const glm::dv
             view.perPoint.push_back(std::uint32_t(i));
             continue;
         }
+        const glm::dvec3 v[3] = {t.a, t.b, t.c};
         double f;
         if (distanceM >= kPointSourceDistance * extentM) {
             // A point source at the centroid: F = A·cosθ_r·cosθ_t / (π d²), relative error O((extent/d)²).
             const glm::dvec3 d = (t.centroid - centroid) / distanceM;
             f = t.areaM2 * glm::dot(n, d) * -glm::dot(t.normal, d) / (M_PI * distanceM * distanceM);
         } else if (!(radiusM > 0.0)) {
-            const glm::dvec3 v[3] = {t.a, t.b, t.c};
-            f = unoccludedFormFactor(centroid, n, v, 3);
+            f = unoccludedFormFactor(centroid, n, v, 3);  // a point receiver (a texel): its midpoints are all p
         } else {
-            const glm::dvec3 v[3] = {t.a, t.b, t.c};
             f = (unoccludedFormFactor(midpoints[0], n, v, 3) + unoccludedFormFactor(midpoints[1], n, v, 3) +
                  unoccludedFormFactor(midpoints[2], n, v, 3)) / 3.0;
         }

@@ -72,7 +72,8 @@ private:
 
 // The area lights a bake uses, or null when emitters shoot through hemicubes instead: by setting, because the
 // scene has no emitter, or because it has more emitter triangles than LightingSettings::maxRayTracedEmitters
-// (every element and texel tests every emitter triangle, near ones per point; elements bisected from one input triangle count as that one). The solver and the lightmap baker both ask, and get the same answer.
+// (every element and texel tests every emitter triangle, near ones per point; elements bisected from one input
+// triangle count as that one). The solver and the lightmap baker both ask, and get the same answer.
 // `samplesPerPoint` 0 = LightingSettings::emitterSamples.
 std::unique_ptr<EmissiveAreaLights> makeEmissiveAreaLights(const PatchMesh& mesh, const EmbreeScene& rays,
                                                            const LightingSettings& lighting, int samplesPerPoint = 0);
