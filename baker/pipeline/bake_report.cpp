@@ -26,6 +26,8 @@ nlohmann::json convergenceJson(const SolveReport& solve) {
             {"hemicubes", solve.hemicubes},
             {"cachedShots", solve.cachedShots},
             {"unevenShots", solve.unevenShots},
+            {"elementRows", solve.elementRows},
+            {"cachedElementRows", solve.cachedElementRows},
             {"localRounds", solve.localRounds},
             {"emittersByRays", solve.emittersByRays},
             {"formFactorCacheMiB", double(solve.formFactorCacheBytes) / 1048576.0},

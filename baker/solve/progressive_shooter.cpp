@@ -58,12 +58,13 @@ struct ProgressiveShooter::Shot {
     FormFactorRow own;
     const FormFactorRow* row = nullptr;
     std::uint32_t hemicubesRendered = 0;
+    std::uint32_t elementRowsRendered = 0;
     std::uint64_t seed = 0;
     // Unshot light lying unevenly over the patch: shot from the elements `picks` (element, share of the light),
-    // each through its own row (`elementRows[k]` when the cache has no room for it).
+    // each through its own row.
     bool uneven = false;
     std::vector<std::pair<std::uint32_t, double>> picks;
-    std::vector<FormFactorRow> elementRows;
+    std::vector<FormFactorRow> elementRows;  // element rows rendered for this shot that the cache had no room for
 };
 
 // Per-thread scratch for merging several hemicubes' form factors: a dense accumulator and the ids it touched.
@@ -90,11 +91,17 @@ struct ProgressiveShooter::MergeScratch {
             dense[j] += weight * double(formFactors[i]);
         }
     }
-    // Writes the merged form factors × norm into `row` and clears the accumulator.
+    // Writes the merged form factors × norm into `row` and clears the accumulator. Each entry's rounding to float
+    // is carried into the next, so the stored row sums to the merged total within one rounding, not a random walk
+    // of thousands (rows merged from merged element rows would otherwise drift the power ledger by ~1e-9).
     void finish(double norm, FormFactorRow& row) {
+        double carry = 0.0;
         for (std::uint32_t j : touched) {
+            const double exact = dense[j] * norm + carry;
+            const float stored = std::max(0.0f, float(exact));
+            carry = exact - double(stored);
             row.elements.push_back(j);
-            row.formFactors.push_back(float(dense[j] * norm));
+            row.formFactors.push_back(stored);
             dense[j] = 0.0;
         }
     }
@@ -155,29 +162,11 @@ void ProgressiveShooter::injectIrradiance(const std::vector<glm::dvec3>& irradia
 
 void ProgressiveShooter::renderShot(std::uint32_t patch, Shot& shot) const {
     shot.hemicubesRendered = 0;
+    shot.elementRowsRendered = 0;
     if (shot.uneven) {
         // Each picked element's row is cached on its own and weighted by the share of the light it holds now: the
         // picks change from shot to shot (the first shots' hot spot, later the room's even bounce), the rows do not.
-        std::vector<std::pair<const FormFactorRow*, double>> rows(shot.picks.size());
-        shot.elementRows.resize(shot.picks.size());
-        std::vector<std::size_t> missing;
-        for (std::size_t k = 0; k < shot.picks.size(); ++k) {
-            rows[k] = {cache_->find(elementSlot(shot.picks[k].first)), shot.picks[k].second};
-            if (rows[k].first) cache_->countHit();
-            else missing.push_back(k);
-        }
-        // Rotated by the element, not the shot: the row is the same whenever the element is first picked.
-        forEachPickInParallel(missing.size(), [&](std::size_t m) {
-            const std::uint32_t e = shot.picks[missing[m]].first;
-            renderElementRow(e, (settings_.seed * 0x9E3779B97F4A7C15ull + e) * 2654435761u, shot.elementRows[missing[m]]);
-        });
-        for (std::size_t k : missing) {
-            const std::uint32_t e = shot.picks[k].first;
-            FormFactorRow& own = shot.elementRows[k];
-            shot.hemicubesRendered += own.hemicubes;
-            rows[k].first = cache_->store(elementSlot(e), own) ? cache_->find(elementSlot(e)) : &own;
-        }
-        mergeRows(rows, shot.own);
+        shot.hemicubesRendered = mergeElementRows(shot.picks, shot);
         // Kept for the local bound, which predicts the next uneven shot by this one (merging every uneven patch's
         // rows for each bound would cost 16 rows per patch per round).
         shot.row = cache_->replace(unevenSlot(patch), shot.own) ? cache_->find(unevenSlot(patch)) : &shot.own;
@@ -188,8 +177,7 @@ void ProgressiveShooter::renderShot(std::uint32_t patch, Shot& shot) const {
         cache_->countHit();
         return;
     }
-    renderRow(patch, shot.seed, shot.own);
-    shot.hemicubesRendered = shot.own.hemicubes;
+    shot.hemicubesRendered = renderRow(patch, shot.seed, shot);
     shot.row = cache_->store(patch, shot.own) ? cache_->find(patch) : &shot.own;
 }
 
@@ -210,33 +198,40 @@ void ProgressiveShooter::mergeRows(const std::vector<std::pair<const FormFactorR
     scratch.finish(1.0, merged);
 }
 
-void ProgressiveShooter::renderRow(std::uint32_t patch, std::uint64_t seed, FormFactorRow& row) const {
-    HemicubeRenderer& renderer = pool_.local();
-    MergeScratch& scratch = scratch_->local();
+std::uint32_t ProgressiveShooter::mergeElementRows(const std::vector<std::pair<std::uint32_t, double>>& picks,
+                                                  Shot& shot) const {
+    std::vector<std::pair<const FormFactorRow*, double>> rows(picks.size());
+    std::vector<FormFactorRow>& own = shot.elementRows;
+    own.resize(picks.size());
+    std::vector<std::size_t> missing;
+    for (std::size_t k = 0; k < picks.size(); ++k) {
+        rows[k] = {cache_->find(elementSlot(picks[k].first)), picks[k].second};
+        if (rows[k].first) cache_->countHit();
+        else missing.push_back(k);
+    }
+    // Rotated by the element, not the shot: the row is the same whichever shot first needs it.
+    forEachPickInParallel(missing.size(), [&](std::size_t m) {
+        const std::uint32_t e = picks[missing[m]].first;
+        renderElementRow(e, (settings_.seed * 0x9E3779B97F4A7C15ull + e) * 2654435761u, own[missing[m]]);
+    });
+    std::uint32_t rendered = 0;
+    for (std::size_t k : missing) {
+        const std::uint32_t e = picks[k].first;
+        rendered += own[k].hemicubes;
+        rows[k].first = cache_->store(elementSlot(e), own[k]) ? cache_->find(elementSlot(e)) : &own[k];
+    }
+    shot.elementRowsRendered += std::uint32_t(missing.size());
+    mergeRows(rows, shot.own);
+    return rendered;
+}
+
+std::uint32_t ProgressiveShooter::renderRow(std::uint32_t patch, std::uint64_t seed, Shot& shot) const {
+    FormFactorRow& row = shot.own;
     const PatchArrays& pa = mesh_.patches;
     const ElementArrays& el = mesh_.elements;
-
-    HemicubeFrame frame = HemicubeFrame::randomlyRotated(pa.centroid[patch], glm::dvec3(pa.normal[patch]), seed);
-    renderer.renderFormFactors(frame, scratch.list);
-    row.hemicubes = 1;
-    const double patchSizeM = std::sqrt(2.0 * pa.areaM2[patch]);
     const std::uint32_t count = pa.elementCount[patch];
     const std::uint32_t first = pa.firstElement[patch];
-    if (count <= 1 && facesTightGap(renderer, scratch.list, patchSizeM)) {
-        // A one-element patch facing a surface in a tight gap (a light panel's top under the ceiling).
-        renderPickedRow({{first, 1.0}}, seed, row, 1315423911u);
-        return;
-    }
-    if (count <= 1 || !(scratch.list.minDepthM < settings_.proximityFactor * patchSizeM)) {
-        row.elements.assign(scratch.list.elements.begin(), scratch.list.elements.end());
-        row.formFactors.assign(scratch.list.formFactors.begin(), scratch.list.formFactors.end());
-        row.skyFraction = scratch.list.skyFraction;
-        row.backfaceFraction = scratch.list.backfaceFraction;
-        return;
-    }
-
-    // Proximity: something is close relative to the patch, so one centred hemicube misrepresents the patch.
-    // Integrate over the patch with one hemicube per (a spread subset of) its elements, area-weighted.
+    // A spread subset of its elements, area-weighted: where proximity integrates the row over the patch.
     const std::uint32_t samples = std::min(count, kMaxSamplesPerPatch);
     double sampledArea = 0.0;
     for (std::uint32_t s = 0; s < samples; ++s) sampledArea += el.areaM2[first + std::uint64_t(s) * count / samples];
@@ -245,7 +240,31 @@ void ProgressiveShooter::renderRow(std::uint32_t patch, std::uint64_t seed, Form
         const std::uint32_t e = first + std::uint32_t(std::uint64_t(s) * count / samples);
         picks.emplace_back(e, el.areaM2[e] / sampledArea);
     }
-    renderPickedRow(picks, seed, row, 1315423911u);
+    // Their rows all cached already (earlier uneven shots picked them): the integral costs no hemicube.
+    const bool allCached = count > 1 && std::all_of(picks.begin(), picks.end(), [&](const auto& pick) {
+        return cache_->find(elementSlot(pick.first)) != nullptr;
+    });
+    if (allCached) return mergeElementRows(picks, shot);
+
+    HemicubeRenderer& renderer = pool_.local();
+    MergeScratch& scratch = scratch_->local();
+    HemicubeFrame frame = HemicubeFrame::randomlyRotated(pa.centroid[patch], glm::dvec3(pa.normal[patch]), seed);
+    renderer.renderFormFactors(frame, scratch.list);
+    row.hemicubes = 1;
+    const double patchSizeM = std::sqrt(2.0 * pa.areaM2[patch]);
+    if (count <= 1 && facesTightGap(renderer, scratch.list, patchSizeM)) {
+        // A one-element patch facing a surface in a tight gap (a light panel's top under the ceiling).
+        return 1 + mergeElementRows({{first, 1.0}}, shot);
+    }
+    if (count <= 1 || !(scratch.list.minDepthM < settings_.proximityFactor * patchSizeM)) {
+        row.elements.assign(scratch.list.elements.begin(), scratch.list.elements.end());
+        row.formFactors.assign(scratch.list.formFactors.begin(), scratch.list.formFactors.end());
+        row.skyFraction = scratch.list.skyFraction;
+        row.backfaceFraction = scratch.list.backfaceFraction;
+        return 1;
+    }
+    // Proximity: something is close relative to the patch, so one centred hemicube misrepresents the patch.
+    return 1 + mergeElementRows(picks, shot);
 }
 
 double ProgressiveShooter::unshotW(std::uint32_t patch) const {
@@ -292,21 +311,6 @@ std::vector<std::pair<std::uint32_t, double>> ProgressiveShooter::lightPicks(std
 
 const FormFactorRow* ProgressiveShooter::nextRow(std::uint32_t patch) const {
     return cache_->find(unevenLight(patch) ? unevenSlot(patch) : patch);
-}
-
-void ProgressiveShooter::renderPickedRow(const std::vector<std::pair<std::uint32_t, double>>& picks, std::uint64_t seed,
-                                         FormFactorRow& row, std::uint64_t rotationStream) const {
-    if (picks.size() == 1) {
-        renderElementRow(picks[0].first, seed * rotationStream, row);
-        return;
-    }
-    std::vector<FormFactorRow> perPick(picks.size());
-    forEachPickInParallel(picks.size(), [&](std::size_t k) {
-        renderElementRow(picks[k].first, seed * rotationStream + k, perPick[k]);
-    });
-    std::vector<std::pair<const FormFactorRow*, double>> rows;
-    for (std::size_t k = 0; k < picks.size(); ++k) rows.emplace_back(&perPick[k], picks[k].second);
-    mergeRows(rows, row);  // weights normalised there: the row shoots exactly the power given
 }
 
 void ProgressiveShooter::renderElementRow(std::uint32_t e, std::uint64_t rotation, FormFactorRow& row) const {
@@ -362,6 +366,7 @@ void ProgressiveShooter::applyShot(const Shot& shot) {
     ledger_.hemicubes += shot.hemicubesRendered;
     ledger_.cachedShots += shot.hemicubesRendered == 0 ? 1 : 0;
     ledger_.unevenShots += shot.uneven ? 1 : 0;
+    ledger_.elementRows += shot.elementRowsRendered;
 }
 
 void ProgressiveShooter::applyRow(std::uint32_t patch, const FormFactorRow& row, const glm::dvec3& deltaRadiosity) {
@@ -387,6 +392,12 @@ void ProgressiveShooter::applyRow(std::uint32_t patch, const FormFactorRow& row,
     }
     ledger_.escapedW += powerW * row.skyFraction;
     ledger_.backfaceW += powerW * row.backfaceFraction;
+}
+
+std::size_t ProgressiveShooter::cachedElementRows() const {
+    std::size_t held = 0;
+    for (std::uint32_t e = 0; e < mesh_.elements.size(); ++e) held += cache_->find(elementSlot(e)) ? 1 : 0;
+    return held;
 }
 
 glm::dvec3 ProgressiveShooter::unshotPowerPerChannelW() const {

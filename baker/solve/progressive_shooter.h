@@ -31,6 +31,7 @@ struct ShootingLedger {
     std::uint64_t hemicubes = 0;     // rendered; > shots when proximity asked for several sample points
     std::uint64_t cachedShots = 0;   // shots that reused their patch's cached form-factor row
     std::uint64_t unevenShots = 0;   // shots from elements picked by the patch's uneven light (unevenShotSpread)
+    std::uint64_t elementRows = 0;   // element rows rendered (proximity and uneven shots): each once while the cache has room
     std::uint64_t localRounds = 0;   // local-bound evaluations after the bulk (each picks the next patches to shoot)
     double localBoundSeconds = 0.0;  // spent evaluating them (serial; the rest of the shoot time renders and applies)
     std::size_t cacheBytes = 0;      // form-factor rows kept
@@ -76,6 +77,7 @@ public:
 
     const ShootingLedger& ledger() const { return ledger_; }
     std::size_t formFactorCacheBytes() const { return cache_->bytesUsed(); }
+    std::size_t cachedElementRows() const;  // element rows held in the cache now
     double unshotPowerW() const { return queue_.totalPower(); }  // sum over channels
     glm::dvec3 unshotPowerPerChannelW() const;
     double exitancePowerW() const { return exitanceW_; }  // Σ B·A over elements, summed over channels
@@ -86,7 +88,9 @@ private:
     struct MergeScratch;
     void addUnshot(std::uint32_t patch, const glm::dvec3& radiosity);
     void renderShot(std::uint32_t patch, Shot& shot) const;
-    void renderRow(std::uint32_t patch, std::uint64_t seed, FormFactorRow& row) const;
+    // `patch`'s row into shot.own: one hemicube at its centroid, or, something being near (proximity) or a tight
+    // gap in front of it, its elements' own rows merged by area. Returns the hemicubes rendered.
+    std::uint32_t renderRow(std::uint32_t patch, std::uint64_t seed, Shot& shot) const;
     // Whether `patch`'s unshot light lies unevenly over it: more than settings_.unevenShotSpread of it away from
     // an even spread over its area (total-variation distance between the two distributions over its elements).
     bool unevenLight(std::uint32_t patch) const;
@@ -94,10 +98,10 @@ private:
     // Up to kMaxSamplesPerPatch elements picked by systematic sampling of `patch`'s unshot light, each with the
     // share it shoots from its centroid (weights sum to 1).
     std::vector<std::pair<std::uint32_t, double>> lightPicks(std::uint32_t patch) const;
-    // Form factors averaged over hemicubes at the centroids of `picks` (element, weight), weights normalised;
-    // hemicube k is rotated by seed × rotationStream + k (proximity and uneven rows draw different streams).
-    void renderPickedRow(const std::vector<std::pair<std::uint32_t, double>>& picks, std::uint64_t seed,
-                         FormFactorRow& row, std::uint64_t rotationStream) const;
+    // The rows of `picks` (element, weight) merged into shot.own, weights normalised: each element's own row from
+    // the cache, or rendered (in parallel) and stored there, so proximity and uneven shots of a patch share them;
+    // rows the cache has no room for stay in shot.elementRows. Returns the hemicubes rendered.
+    std::uint32_t mergeElementRows(const std::vector<std::pair<std::uint32_t, double>>& picks, Shot& shot) const;
     // One element's row: a hemicube at its centroid rotated by `rotation`, or, facing a tight gap, the mean of
     // kTightSamplesPerSide² hemicubes over it. Uses this thread's renderer and scratch; thread-safe across threads.
     void renderElementRow(std::uint32_t element, std::uint64_t rotation, FormFactorRow& row) const;

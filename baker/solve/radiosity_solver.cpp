@@ -211,6 +211,8 @@ void shootToBound(const PatchMesh& mesh, const SolveSettings& settings, Hemicube
     report.hemicubes = ledger.hemicubes;
     report.cachedShots = ledger.cachedShots;
     report.unevenShots = ledger.unevenShots;
+    report.elementRows = ledger.elementRows;
+    report.cachedElementRows = shooter.cachedElementRows();
     report.localRounds = ledger.localRounds;
     report.localBoundSeconds = ledger.localBoundSeconds;
     report.formFactorCacheBytes = shooter.formFactorCacheBytes();

@@ -38,6 +38,7 @@ double expectLedgerBalances(const SolveReport& r, double relative) {
     const glm::dvec3 in = r.emitterPowerW + r.directPowerW;
     const glm::dvec3 out = r.absorbedPowerW + r.escapedPowerW + r.backfacePowerW + r.unshotPowerW;
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(out[c], in[c], relative * in[c]) << "channel " << c;
+    std::printf("  ledger out/in - 1: %.3g\n", out.x / in.x - 1.0);
     return out.x / in.x - 1.0;
 }
 
@@ -179,10 +180,14 @@ TEST(UnevenShots, HotSpotIsShotFromWhereItLiesAndTheLedgerBalances) {
         expectLedgerBalances(solved->report, 1e-9);
         EXPECT_EQ(solved->report.stopReason, "converged");
     }
-    std::printf("uneven shots %llu of %llu\n", static_cast<unsigned long long>(uneven->report.unevenShots),
-                static_cast<unsigned long long>(uneven->report.shots));
+    std::printf("uneven shots %llu of %llu; element rows rendered %llu for %zu elements, hemicubes %llu\n",
+                static_cast<unsigned long long>(uneven->report.unevenShots),
+                static_cast<unsigned long long>(uneven->report.shots),
+                static_cast<unsigned long long>(uneven->report.elementRows), uneven->mesh.elements.size(),
+                static_cast<unsigned long long>(uneven->report.hemicubes));
     EXPECT_GT(uneven->report.unevenShots, 0u);
     EXPECT_EQ(even->report.unevenShots, 0u);
+    EXPECT_EQ(uneven->report.elementRows, uneven->report.cachedElementRows);  // each once (ElementRows.* below)
 }
 
 // A needle triangle across a furnace's floor (1 m long, 10 µm wide: a sliver as cutting and unwrapping leave them
@@ -228,4 +233,32 @@ TEST(ImplausibleReceivers, NeedleInAFurnaceFloorShowsTheLightAroundIt) {
     EXPECT_LE(brightest, 1.5);  // ordinary elements keep their shots' noise (±5 %, up to 31 % on small corner ones)
     expectLedgerBalances(solved->report, 1e-9);
     EXPECT_NEAR(meanIrradianceOverPi(*solved).x, expected, 0.002 * expected);
+}
+
+// A closed room lit by two point lamps near its walls: every patch is near another wall (proximity: its row merges
+// its elements' rows) and the lamps' hot spots are shot from where they lie (uneven: the same element rows). Each
+// element's row is rendered once however many shots of either kind use it, and each patch renders at most one probe
+// hemicube for its even row: hemicubes ≤ patches + elements while the cache holds everything. Before session 18 near
+// patches rendered their own per-element hemicubes apart from the cached ones, so uneven shots rendered them again.
+TEST(ElementRows, RenderedOnceForProximityAndUnevenShots) {
+    SceneBuilder b("lit corners");
+    const int wall = b.addMaterial(glm::vec3(0.6f));
+    hemibake::test::addFurnaceFaces(b, wall, wall);
+    b.addLight(pointLight({0.1, 0.1, 0.1}, 1.0f));
+    b.addLight(pointLight({0.9, 0.85, 0.5}, 0.5f));
+    SolveSettings s = shootOnly(0.34, 32);
+    s.subdivision.elementSizeM = 0.34 / 4;
+    s.solver.epsilon = 1e-4;
+    const auto solved = solveTestScene(b.build(), s);
+    const SolveReport& r = solved->report;
+    const std::size_t patches = solved->mesh.patches.size(), elements = solved->mesh.elements.size();
+    std::printf("  %zu patches, %zu elements: %llu shots (%llu uneven), %llu element rows, %llu hemicubes\n", patches,
+                elements, static_cast<unsigned long long>(r.shots), static_cast<unsigned long long>(r.unevenShots),
+                static_cast<unsigned long long>(r.elementRows), static_cast<unsigned long long>(r.hemicubes));
+    EXPECT_EQ(r.stopReason, "converged");
+    EXPECT_GT(r.unevenShots, 50u);
+    EXPECT_GT(r.elementRows, elements / 2);  // near patches' rows are merged element rows
+    EXPECT_EQ(r.elementRows, r.cachedElementRows);  // none rendered twice: each is the one the cache holds
+    EXPECT_LE(r.hemicubes, patches + elements);
+    expectLedgerBalances(r, 1e-9);
 }
