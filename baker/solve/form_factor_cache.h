@@ -38,6 +38,7 @@ public:
     bool replace(std::uint32_t slot, FormFactorRow& row);
 
     std::size_t bytesUsed() const { return used_.load(std::memory_order_relaxed); }
+    std::size_t budgetBytes() const { return budget_; }
     std::uint64_t hits() const { return hits_.load(std::memory_order_relaxed); }
     void countHit() { hits_.fetch_add(1, std::memory_order_relaxed); }
 

@@ -199,7 +199,7 @@ void ProgressiveShooter::mergeRows(const std::vector<std::pair<const FormFactorR
 }
 
 std::uint32_t ProgressiveShooter::mergeElementRows(const std::vector<std::pair<std::uint32_t, double>>& picks,
-                                                  Shot& shot) const {
+                                                  Shot& shot, bool keep) const {
     std::vector<std::pair<const FormFactorRow*, double>> rows(picks.size());
     std::vector<FormFactorRow>& own = shot.elementRows;
     own.resize(picks.size());
@@ -218,7 +218,7 @@ std::uint32_t ProgressiveShooter::mergeElementRows(const std::vector<std::pair<s
     for (std::size_t k : missing) {
         const std::uint32_t e = picks[k].first;
         rendered += own[k].hemicubes;
-        rows[k].first = cache_->store(elementSlot(e), own[k]) ? cache_->find(elementSlot(e)) : &own[k];
+        rows[k].first = keep && cache_->store(elementSlot(e), own[k]) ? cache_->find(elementSlot(e)) : &own[k];
     }
     shot.elementRowsRendered += std::uint32_t(missing.size());
     mergeRows(rows, shot.own);
@@ -263,8 +263,11 @@ std::uint32_t ProgressiveShooter::renderRow(std::uint32_t patch, std::uint64_t s
         row.backfaceFraction = scratch.list.backfaceFraction;
         return 1;
     }
-    // Proximity: something is close relative to the patch, so one centred hemicube misrepresents the patch.
-    return 1 + mergeElementRows(picks, shot);
+    // Proximity: something is close relative to the patch, so one centred hemicube misrepresents the patch. Its
+    // elements' rows are kept for its uneven shots only while the cache is under half full: past that, the merged
+    // row is what must fit (16 element rows cost several times one merged row, and a near patch whose row no longer
+    // fits renders 16 hemicubes at every shot: kept without limit, they made the 30k level's bake 22 → 36+ min).
+    return 1 + mergeElementRows(picks, shot, 2 * cache_->bytesUsed() < cache_->budgetBytes());
 }
 
 double ProgressiveShooter::unshotW(std::uint32_t patch) const {

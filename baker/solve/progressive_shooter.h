@@ -99,9 +99,10 @@ private:
     // share it shoots from its centroid (weights sum to 1).
     std::vector<std::pair<std::uint32_t, double>> lightPicks(std::uint32_t patch) const;
     // The rows of `picks` (element, weight) merged into shot.own, weights normalised: each element's own row from
-    // the cache, or rendered (in parallel) and stored there, so proximity and uneven shots of a patch share them;
-    // rows the cache has no room for stay in shot.elementRows. Returns the hemicubes rendered.
-    std::uint32_t mergeElementRows(const std::vector<std::pair<std::uint32_t, double>>& picks, Shot& shot) const;
+    // the cache, or rendered (in parallel) and, if `keep`, stored there, so proximity and uneven shots of a patch
+    // share them; rows not stored stay in shot.elementRows. Returns the hemicubes rendered.
+    std::uint32_t mergeElementRows(const std::vector<std::pair<std::uint32_t, double>>& picks, Shot& shot,
+                                   bool keep = true) const;
     // One element's row: a hemicube at its centroid rotated by `rotation`, or, facing a tight gap, the mean of
     // kTightSamplesPerSide² hemicubes over it. Uses this thread's renderer and scratch; thread-safe across threads.
     void renderElementRow(std::uint32_t element, std::uint64_t rotation, FormFactorRow& row) const;
