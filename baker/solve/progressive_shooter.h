@@ -31,7 +31,7 @@ struct ShootingLedger {
     std::uint64_t hemicubes = 0;     // rendered; > shots when proximity asked for several sample points
     std::uint64_t cachedShots = 0;   // shots that reused their patch's cached form-factor row
     std::uint64_t unevenShots = 0;   // shots from elements picked by the patch's uneven light (unevenShotSpread)
-    std::uint64_t elementRows = 0;   // element rows rendered (proximity and uneven shots): each once while the cache has room
+    std::uint64_t elementRows = 0;   // element rows rendered (proximity and uneven shots): each once while it is kept
     std::uint64_t localRounds = 0;   // local-bound evaluations after the bulk (each picks the next patches to shoot)
     double localBoundSeconds = 0.0;  // spent evaluating them (serial; the rest of the shoot time renders and applies)
     std::size_t cacheBytes = 0;      // form-factor rows kept
