@@ -64,7 +64,7 @@ struct ProgressiveShooter::Shot {
     // each through its own row.
     bool uneven = false;
     std::vector<std::pair<std::uint32_t, double>> picks;
-    std::vector<FormFactorRow> elementRows;  // element rows rendered for this shot that the cache had no room for
+    std::vector<FormFactorRow> elementRows;  // element rows rendered for this shot and not stored in the cache
 };
 
 // Per-thread scratch for merging several hemicubes' form factors: a dense accumulator and the ids it touched.
