@@ -184,7 +184,7 @@ CommandRunner addBakeCommand(CLI::App& app) {
         ->check(CLI::Range(1, 4096));
     cmd->add_option("--ff-cache-mib", o->formFactorCacheMiB,
                     "Memory for form-factor rows of patches that shoot again (default 1024; 0 = render every shot). "
-                    "Rows cost about 8 bytes per element a patch sees; past the budget patches render each time")
+                    "Rows cost about 3 bytes per element a patch sees; past the budget patches render each time")
         ->check(CLI::NonNegativeNumber);
     cmd->add_option("--adaptive-levels", o->adaptiveLevels,
                     "Refine elements at light/shadow boundaries this many times (each halves their size), then solve again")

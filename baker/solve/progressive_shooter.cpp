@@ -72,38 +72,38 @@ struct ProgressiveShooter::MergeScratch {
     FormFactorList list;
     std::vector<double> dense;
     std::vector<std::uint32_t> touched;
+    std::vector<double> values;
 
     // Starts a merge into `row` (emptied) over a mesh of `elementCount` elements.
     void begin(std::size_t elementCount, FormFactorRow& row) {
         if (dense.size() != elementCount) dense.assign(elementCount, 0.0);
         touched.clear();
-        row.elements.clear();
-        row.formFactors.clear();
+        row.clearEntries();
         row.skyFraction = row.backfaceFraction = 0.0;
         row.hemicubes = 0;
     }
-    // Adds weight × form factors (one per id) to the merge.
-    template <class FormFactors>
-    void add(const std::vector<std::uint32_t>& ids, const FormFactors& formFactors, double weight) {
-        for (std::size_t i = 0; i < ids.size(); ++i) {
-            const std::uint32_t j = ids[i];
-            if (dense[j] == 0.0) touched.push_back(j);
-            dense[j] += weight * double(formFactors[i]);
-        }
+    void add(std::uint32_t j, double formFactor) {
+        if (!(formFactor > 0.0)) return;
+        if (dense[j] == 0.0) touched.push_back(j);
+        dense[j] += formFactor;
     }
-    // Writes the merged form factors × norm into `row` and clears the accumulator. Each entry's rounding to float
-    // is carried into the next, so the stored row sums to the merged total within one rounding, not a random walk
-    // of thousands (rows merged from merged element rows would otherwise drift the power ledger by ~1e-9).
+    // Adds weight × a hemicube's form factors to the merge.
+    void add(const FormFactorList& hemicube, double weight) {
+        for (std::size_t i = 0; i < hemicube.elements.size(); ++i) add(hemicube.elements[i], weight * hemicube.formFactors[i]);
+    }
+    // Adds weight × a row's form factors to the merge.
+    void add(const FormFactorRow& row, double weight) {
+        row.forEach([&](std::uint32_t j, double formFactor) { add(j, weight * formFactor); });
+    }
+    // Writes the merged form factors × norm into `row` (ids ascending, as it stores them) and clears the accumulator.
     void finish(double norm, FormFactorRow& row) {
-        double carry = 0.0;
-        for (std::uint32_t j : touched) {
-            const double exact = dense[j] * norm + carry;
-            const float stored = std::max(0.0f, float(exact));
-            carry = exact - double(stored);
-            row.elements.push_back(j);
-            row.formFactors.push_back(stored);
-            dense[j] = 0.0;
+        std::sort(touched.begin(), touched.end());
+        values.resize(touched.size());
+        for (std::size_t k = 0; k < touched.size(); ++k) {
+            values[k] = dense[touched[k]] * norm;
+            dense[touched[k]] = 0.0;
         }
+        row.assign(touched, values);
     }
 };
 
@@ -190,7 +190,7 @@ void ProgressiveShooter::mergeRows(const std::vector<std::pair<const FormFactorR
     const double norm = weights > 0.0 ? 1.0 / weights : 0.0;
     for (const auto& [row, w] : rows) {
         const double weight = w * norm;
-        scratch.add(row->elements, row->formFactors, weight);
+        scratch.add(*row, weight);
         merged.skyFraction += weight * row->skyFraction;
         merged.backfaceFraction += weight * row->backfaceFraction;
         merged.hemicubes += row->hemicubes;
@@ -250,17 +250,18 @@ std::uint32_t ProgressiveShooter::renderRow(std::uint32_t patch, std::uint64_t s
     MergeScratch& scratch = scratch_->local();
     HemicubeFrame frame = HemicubeFrame::randomlyRotated(pa.centroid[patch], glm::dvec3(pa.normal[patch]), seed);
     renderer.renderFormFactors(frame, scratch.list);
-    row.hemicubes = 1;
     const double patchSizeM = std::sqrt(2.0 * pa.areaM2[patch]);
     if (count <= 1 && facesTightGap(renderer, scratch.list, patchSizeM)) {
         // A one-element patch facing a surface in a tight gap (a light panel's top under the ceiling).
         return 1 + mergeElementRows({{first, 1.0}}, shot);
     }
     if (count <= 1 || !(scratch.list.minDepthM < settings_.proximityFactor * patchSizeM)) {
-        row.elements.assign(scratch.list.elements.begin(), scratch.list.elements.end());
-        row.formFactors.assign(scratch.list.formFactors.begin(), scratch.list.formFactors.end());
+        scratch.begin(el.size(), row);
+        scratch.add(scratch.list, 1.0);
+        scratch.finish(1.0, row);
         row.skyFraction = scratch.list.skyFraction;
         row.backfaceFraction = scratch.list.backfaceFraction;
+        row.hemicubes = 1;
         return 1;
     }
     // Proximity: something is close relative to the patch, so one centred hemicube misrepresents the patch. Its
@@ -324,7 +325,7 @@ void ProgressiveShooter::renderElementRow(std::uint32_t e, std::uint64_t rotatio
     const glm::dvec3 normal(el.normal[e]);
     auto add = [&](double weight) {
         ++row.hemicubes;
-        scratch.add(scratch.list.elements, scratch.list.formFactors, weight);
+        scratch.add(scratch.list, weight);
         row.skyFraction += weight * scratch.list.skyFraction;
         row.backfaceFraction += weight * scratch.list.backfaceFraction;
     };
@@ -358,12 +359,12 @@ void ProgressiveShooter::applyShot(const Shot& shot) {
     // Queue updates after the row, once per receiving patch (else once per element).
     const ElementArrays& el = mesh_.elements;
     const std::uint64_t stamp = ledger_.shots + 1;
-    for (std::size_t k = 0; k < shot.row->elements.size(); ++k) {
-        const std::uint32_t p = el.patch[shot.row->elements[k]];
-        if (queuedAtShot_[p] == stamp) continue;
+    shot.row->forEach([&](std::uint32_t j, double) {
+        const std::uint32_t p = el.patch[j];
+        if (queuedAtShot_[p] == stamp) return;
         queuedAtShot_[p] = stamp;
         queue_.set(p, channelSum(solution_.unshotRadiosity[p]) * mesh_.patches.areaM2[p]);
-    }
+    });
     shotOnce_[shot.patch] = true;
     ++ledger_.shots;
     ledger_.hemicubes += shot.hemicubesRendered;
@@ -378,11 +379,10 @@ void ProgressiveShooter::applyRow(std::uint32_t patch, const FormFactorRow& row,
     const double shooterArea = mesh_.patches.areaM2[patch];
     const glm::dvec3 powerW = deltaRadiosity * shooterArea;
     const glm::dvec3& delta = deltaRadiosity;
-    for (std::size_t k = 0; k < row.elements.size(); ++k) {
-        const std::uint32_t j = row.elements[k];
+    row.forEach([&](std::uint32_t j, double formFactor) {
         // Reciprocity: F_ji = F_ij·A_i/A_j, so the irradiance j gains is ΔB_i·F_ij·A_i/A_j.
-        const double receivedFormFactor = double(row.formFactors[k]) * shooterArea / el.areaM2[j];
-        if (double(row.formFactors[k]) <= 2.0 * largestPixelFormFactor_)
+        const double receivedFormFactor = formFactor * shooterArea / el.areaM2[j];
+        if (formFactor <= 2.0 * largestPixelFormFactor_)
             singlePixelFormFactor_[j] = std::max(singlePixelFormFactor_[j], float(receivedFormFactor));
         const glm::dvec3 deltaIrradiance = delta * receivedFormFactor;
         const glm::dvec3 reflected = glm::dvec3(el.reflectance[j]) * deltaIrradiance;
@@ -392,7 +392,7 @@ void ProgressiveShooter::applyRow(std::uint32_t patch, const FormFactorRow& row,
         const std::uint32_t p = el.patch[j];
         solution_.unshotRadiosity[p] += reflected * (el.areaM2[j] / mesh_.patches.areaM2[p]);
         unshotW_[j] += channelSum(reflected) * el.areaM2[j];
-    }
+    });
     ledger_.escapedW += powerW * row.skyFraction;
     ledger_.backfaceW += powerW * row.backfaceFraction;
 }
@@ -422,10 +422,9 @@ std::vector<glm::dvec3> ProgressiveShooter::pendingIrradiance(std::size_t* unkno
             ++unknown;
             continue;
         }
-        for (std::size_t k = 0; k < row->elements.size(); ++k) {
-            const std::uint32_t e = row->elements[k];
-            pending[e] += deltaB * (double(row->formFactors[k]) * pa.areaM2[p] / el.areaM2[e]);
-        }
+        row->forEach([&](std::uint32_t e, double formFactor) {
+            pending[e] += deltaB * (formFactor * pa.areaM2[p] / el.areaM2[e]);
+        });
     }
     if (unknownPatches) *unknownPatches = unknown;
     return pending;
@@ -489,13 +488,12 @@ ProgressiveShooter::LocalBound ProgressiveShooter::localBound(double epsilon) co
         if (row) {
             worst = 0.0;
             const double deltaB = channelSum(solution_.unshotRadiosity[p]);
-            for (std::size_t k = 0; k < row->elements.size(); ++k) {
-                const std::uint32_t e = row->elements[k];
-                if (!(relative[e] > epsilon)) continue;
+            row->forEach([&](std::uint32_t e, double formFactor) {
+                if (!(relative[e] > epsilon)) return;
                 const double have = channelSum(solution_.irradiance[e]);
-                const double mine = deltaB * double(row->formFactors[k]) * pa.areaM2[p] / el.areaM2[e];
+                const double mine = deltaB * formFactor * pa.areaM2[p] / el.areaM2[e];
                 worst = std::max(worst, have > 0.0 ? bounces * mine / have : std::numeric_limits<double>::infinity());
-            }
+            });
         }
         if (worst > 0.0) share.emplace_back(worst, p);
     }

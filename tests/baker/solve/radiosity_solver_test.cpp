@@ -136,25 +136,27 @@ TEST(FormFactorCacheBudget, TinyCacheBalancesTheLedgerAndMatchesTheFurnace) {
 // does not fit leaves the slot empty (the shot uses its own copy) instead of keeping a stale one.
 TEST(FormFactorCacheBudget, ReplaceKeepsTheBudgetExact) {
     auto rowOf = [](std::size_t n) {
+        std::vector<std::uint32_t> ids(n);
+        for (std::uint32_t i = 0; i < n; ++i) ids[i] = i;
         FormFactorRow row;
-        for (std::uint32_t i = 0; i < n; ++i) row.elements.push_back(i), row.formFactors.push_back(1.0f / float(n));
+        row.assign(ids, std::vector<double>(n, 1.0 / double(n)));
         return row;
     };
     FormFactorCache cache(2, 4096);
-    FormFactorRow small = rowOf(10), medium = rowOf(100), huge = rowOf(1000);
+    FormFactorRow small = rowOf(10), medium = rowOf(100), huge = rowOf(2000);
     ASSERT_TRUE(cache.store(0, small));
     ASSERT_TRUE(cache.store(1, medium));
     const std::size_t mediumBytes = cache.find(1)->bytes();
     const std::size_t before = cache.bytesUsed();
     FormFactorRow other = rowOf(20);
     ASSERT_TRUE(cache.replace(0, other));
-    EXPECT_EQ(cache.find(0)->elements.size(), 20u);
+    EXPECT_EQ(cache.find(0)->size(), 20u);
     EXPECT_EQ(cache.bytesUsed(), mediumBytes + cache.find(0)->bytes());
     EXPECT_GT(cache.bytesUsed(), before);  // 20 entries cost more than 10
-    EXPECT_FALSE(cache.replace(0, huge));   // 8 KB does not fit 4 KiB
+    EXPECT_FALSE(cache.replace(0, huge));   // 6 KB (3 bytes an entry) does not fit 4 KiB
     EXPECT_EQ(cache.find(0), nullptr);
     EXPECT_EQ(cache.bytesUsed(), mediumBytes);
-    EXPECT_EQ(huge.elements.size(), 1000u);  // left to the caller
+    EXPECT_EQ(huge.size(), 2000u);  // left to the caller
 }
 
 // A point lamp 0.15 m over one side of a 2 m floor patch lights a hot spot on a few of its elements: the patch's
