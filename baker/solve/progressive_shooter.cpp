@@ -28,9 +28,11 @@ constexpr std::uint32_t kMaxSamplesPerPatch = 16;
 // surfaces nearer than kTightFraction × its size (√(2·area)); it then shoots from kTightSamplesPerSide² points over
 // its triangle instead. A panel 5 cm under a 1.75 m ceiling element covers ≈ 0.95 within 0.22 m; a floor element
 // beside a wall or a sunk crate (the slivers solid cuts leave along them) ≈ 0.1–0.3, and stays one hemicube.
+// 3 × 3 points, not 4 × 4: on the 10k level 16 % fewer hemicubes in the solve, per object within 0.02 % of the
+// 4 × 4 bake (docs/performance.md, session 19).
 constexpr double kTightFraction = 1.0 / 8.0;
 constexpr double kTightCover = 0.5;
-constexpr int kTightSamplesPerSide = 4;
+constexpr int kTightSamplesPerSide = 3;
 
 // Whether the renderer's last form-factor render, from an element or patch of this size, faced a tight gap.
 bool facesTightGap(const HemicubeRenderer& renderer, const FormFactorList& list, double sizeM) {
