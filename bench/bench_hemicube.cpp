@@ -12,11 +12,14 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <algorithm>
 #include <array>
 #include <atomic>
+#include <cstdlib>
 #include <map>
 #include <memory>
 #include <random>
+#include <vector>
 
 #include "mesh/gltf_loader.h"
 #include "mesh/subdivision.h"
@@ -136,21 +139,22 @@ void runHemicubes(benchmark::State& state, Mode mode) {
     HemicubePool pool(mesh, resolution);
     pool.setElementRadiance(std::vector<glm::vec3>(mesh.elements.size(), glm::vec3(1.0f)));
     tbb::enumerable_thread_specific<FormFactorList> lists;
-    std::atomic<std::size_t> chunksDrawn{0};
+    std::atomic<std::uint64_t> trianglesDrawn{0};
     auto render = [&] {
         arena.execute([&] {
             tbb::parallel_for(0, batch, [&](int i) {
                 HemicubeRenderer& renderer = pool.local();
+                const std::uint64_t before = renderer.drawTotals().triangles;
                 if (mode == Mode::Items)
                     renderer.renderFormFactors(batchFrames[i], lists.local());
                 else
                     benchmark::DoNotOptimize(renderer.gatherIrradianceOverPi(batchFrames[i], glm::vec3(0.5f)));
-                chunksDrawn += renderer.lastChunksDrawn();
+                trianglesDrawn += renderer.drawTotals().triangles - before;
             });
         });
     };
     render();  // warm-up: every worker creates its context and uploads the scene
-    chunksDrawn = 0;
+    trianglesDrawn = 0;
     for (auto _ : state) render();
     double checksum = 0.0;
     for (const FormFactorList& l : lists) checksum += l.sum();
@@ -161,7 +165,7 @@ void runHemicubes(benchmark::State& state, Mode mode) {
     state.counters["triangles"] = double(mesh.elements.size());
     state.counters["workers"] = double(pool.workerCount());
     // Triangles sent to llvmpipe per hemicube (summed over the five faces), as a fraction of the scene.
-    state.counters["drawn"] = double(chunksDrawn.load()) * SceneBuffers::kDefaultTrianglesPerChunk /
+    state.counters["drawn"] = double(trianglesDrawn.load()) /
                               (hemicubes * double(mesh.elements.size()));
     state.counters["hemicubes/s"] = benchmark::Counter(hemicubes, benchmark::Counter::kIsRate);
 }
@@ -170,12 +174,17 @@ void BM_ItemBuffer(benchmark::State& state) { runHemicubes(state, Mode::Items); 
 
 // examples/level_small.gltf at the default preset's sizes (7 rooms and corridors whose walls stand in the slabs):
 // what occlusion culling saves where rooms hide each other. One worker, so the numbers are per core.
+// HEMIBAKE_BENCH_LEVEL=path.gltf measures another level (e.g. one from examples/generate_level.py).
 const PatchMesh& levelSmall() {
     static const PatchMesh mesh = [] {
         SubdivisionSettings settings;
         settings.patchSizeM = 3.2;
         settings.elementSizeM = 1.6;
-        return subdivide(loadGltf(std::string(HEMIBAKE_SOURCE_DIR) + "/examples/level_small.gltf"), settings);
+        const char* level = std::getenv("HEMIBAKE_BENCH_LEVEL");
+        return subdivide(loadGltf(level != nullptr && *level != '\0'
+                                      ? std::string(level)
+                                      : std::string(HEMIBAKE_SOURCE_DIR) + "/examples/level_small.gltf"),
+                         settings);
     }();
     return mesh;
 }
@@ -184,25 +193,43 @@ void BM_LevelHemicubes(benchmark::State& state) {
     const bool occlusion = state.range(0) != 0;
     const int resolution = static_cast<int>(state.range(1));
     const bool gather = state.range(2) != 0;
+    const auto trianglesPerChunk = static_cast<std::uint32_t>(state.range(3));
     const PatchMesh& mesh = levelSmall();
     OcclusionCullingSettings culling;
     culling.enabled = occlusion;
     GlContext context;
-    SceneBuffers buffers(context, mesh);
+    SceneBuffers buffers(context, mesh, trianglesPerChunk);
     buffers.setElementRadiance(std::vector<glm::vec3>(mesh.elements.size(), glm::vec3(1.0f)));
     HemicubeRenderer renderer(buffers, resolution, culling);
     const std::vector<HemicubeFrame> batchFrames = frames(mesh, 64);
     FormFactorList list;
+    // The floor culling could reach: triangles of the chunks that hold a visible element (item renders only;
+    // counted once per hemicube, where "drawn" counts a chunk once per face it is drawn on).
+    std::vector<std::uint32_t> chunkOf(mesh.elements.size());
+    const auto chunks = buffers.chunks();
+    for (std::size_t c = 0; c < chunks.size(); ++c)
+        for (GLint t = chunks[c].firstVertex / 3; t < (chunks[c].firstVertex + chunks[c].vertexCount) / 3; ++t)
+            chunkOf[buffers.drawOrder()[std::size_t(t)]] = std::uint32_t(c);
+    std::vector<std::uint8_t> chunkSeen(chunks.size(), 0);
+    double visibleTriangles = 0.0;
     auto render = [&] {
         for (const HemicubeFrame& frame : batchFrames) {
-            if (gather)
+            if (gather) {
                 benchmark::DoNotOptimize(renderer.gatherIrradianceOverPi(frame, glm::vec3(0.5f)));
-            else
-                renderer.renderFormFactors(frame, list);
+                continue;
+            }
+            renderer.renderFormFactors(frame, list);
+            std::fill(chunkSeen.begin(), chunkSeen.end(), std::uint8_t(0));
+            for (std::uint32_t e : list.elements)
+                if (!chunkSeen[chunkOf[e]]) {
+                    chunkSeen[chunkOf[e]] = 1;
+                    visibleTriangles += chunks[chunkOf[e]].vertexCount / 3;
+                }
         }
     };
     render();
     const HemicubeDrawTotals before = renderer.drawTotals();
+    visibleTriangles = 0.0;
     for (auto _ : state) render();
     const HemicubeDrawTotals& after = renderer.drawTotals();
     const double hemicubes = double(after.hemicubes - before.hemicubes);
@@ -211,13 +238,22 @@ void BM_LevelHemicubes(benchmark::State& state) {
     // Triangles sent to llvmpipe per hemicube (summed over the five faces, occluder pass included) / scene.
     state.counters["drawn"] = double(after.triangles - before.triangles) /
                               (hemicubes * double(mesh.elements.size()));
+    if (!gather) state.counters["visible"] = visibleTriangles / (hemicubes * double(mesh.elements.size()));
     state.counters["occluders"] =
         double(after.occluderTriangles - before.occluderTriangles) / (hemicubes * double(mesh.elements.size()));
     state.counters["ms/hemicube"] = benchmark::Counter(hemicubes / 1e3, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 BENCHMARK(BM_LevelHemicubes)
-    ->ArgNames({"occlusion", "R", "gather"})
-    ->ArgsProduct({{0, 1}, {64, 128}, {0, 1}})
+    ->ArgNames({"occlusion", "R", "gather", "chunk"})
+    ->ArgsProduct({{0, 1}, {64, 128}, {0, 1}, {SceneBuffers::kDefaultTrianglesPerChunk}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->MinTime(2.0);
+// Chunk size against time: smaller chunks draw fewer triangles but cost more box tests (docs/performance.md).
+BENCHMARK(BM_LevelHemicubes)
+    ->Name("BM_LevelChunkSize")
+    ->ArgNames({"occlusion", "R", "gather", "chunk"})
+    ->ArgsProduct({{1}, {64}, {0}, {4, 8, 16, 32, 64}})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
     ->MinTime(2.0);

@@ -39,7 +39,7 @@ struct BakeOptions {
     std::uint64_t seed = 1;
     bool progress = false;
     std::optional<double> texelsPerUnit;
-    std::optional<int> maxAtlasSize, padding, lattice;
+    std::optional<int> maxAtlasSize, padding, lattice, gatherRes;
     std::optional<double> interpTolerance;
     bool flatGatherDirect = false;
     std::optional<int> gapPasses;
@@ -91,6 +91,7 @@ BakeSettings resolveSettings(const BakeOptions& o, double sceneDiagonalM) {
     override(o.maxAtlasSize, s.lightmap.maxAtlasSize);
     override(o.padding, s.lightmap.paddingTexels);
     override(o.lattice, s.lightmap.latticeStep);
+    override(o.gatherRes, s.lightmap.gatherResolution);
     override(o.interpTolerance, s.lightmap.interpolationTolerance);
     if (o.flatGatherDirect) s.lightmap.gatherTexelDirect = false;
     override(o.gapPasses, s.lightmap.gapPasses);
@@ -222,6 +223,10 @@ CommandRunner addBakeCommand(CLI::App& app) {
         ->check(CLI::IsMember({"gather", "interpolate"}));
     cmd->add_option("--lattice", o->lattice, "Adaptive placement: hemicubes on every Nth texel first, then midpoints only "
                                              "where the light is not locally linear (1 = every texel)")->check(CLI::IsMember({1, 2, 4, 8, 16}));
+    cmd->add_option("--gather-res", o->gatherRes,
+                    "Final-gather hemicube resolution R (0 = the solve's --hemicube-res). Gathers see only bounced light "
+                    "and sky (direct light is traced per texel), so they need less than the solve: presets use half its R")
+        ->check(CLI::Range(0, 4096));
     cmd->add_option("--interp-tolerance", o->interpTolerance,
                     "Adaptive placement: a texel is interpolated when the curvature its lattice neighbours show is "
                     "below this fraction of their value")

@@ -20,6 +20,10 @@ struct LightmapSettings {
     int paddingTexels = 2;
     TexelMode mode = TexelMode::Gather;
     int latticeStep = 4;            // Elias-style placement: hemicubes on every 4th texel first (power of two)
+    // Final-gather hemicube resolution R; 0 = the solve's. With direct light traced per texel a gather sees only
+    // bounced light and sky, smooth enough for a coarser hemicube than the solve's form factors need (typical: half
+    // the solve's R; docs/performance.md "Final gathers at R = 32").
+    int gatherResolution = 0;
     double interpolationTolerance = 0.05;  // interpolate a texel when its lattice neighbours agree within this
     double invalidBackfaceFraction = 0.1;  // a texel whose hemicube sees more back faces is inside geometry
     // Final gathers see ray-traced direct light per texel instead of per element (texel_light.h): right next to a

@@ -73,6 +73,8 @@ private:
     static BakeSettings resolved(BakeSettings s, double sceneDiagonalM) {
         const int r = s.solve.solver.hemicubeResolution;
         if (r < 2 || r % 2) throw std::invalid_argument("--hemicube-res must be an even number >= 2");
+        const int g = s.lightmap.gatherResolution;
+        if (g != 0 && (g < 2 || g % 2)) throw std::invalid_argument("--gather-res must be 0 or an even number >= 2");
         if (!(s.lightmap.texelsPerUnit > 0.0)) s.lightmap.texelsPerUnit = defaultTexelsPerUnit(s.preset, sceneDiagonalM);
         return s;
     }
@@ -154,6 +156,16 @@ private:
     void lightmaps(const EmbreeScene& rays) {
         const BakeSettings& s = result_.report.settings;
         LightmapReport& lm = result_.report.lightmap.emplace();
+        // Final gathers at their own resolution render through a pool of their own (new contexts and uploads: a
+        // second or two); the solve's pool, and what it drew, is done with.
+        SolvedScene& solved = *result_.solved;
+        HemicubeDrawTotals drawnBefore = result_.report.hemicubeDraws.solve;
+        const int gatherResolution = s.lightmap.gatherResolution;
+        if (s.lightmap.mode == TexelMode::Gather && solved.pool && gatherResolution > 0 &&
+            gatherResolution != solved.pool->resolution()) {
+            solved.pool = std::make_unique<HemicubePool>(solved.mesh, gatherResolution);
+            drawnBefore = {};
+        }
         result_.lightmaps = bakeLightmaps(scene_, *result_.solved, result_.atlas, result_.texels, rays, s.lightmap, s.solve,
                                           lm.stats, [&](std::size_t doneTexels, std::size_t total) {
                                               update("lightmaps: " + std::to_string(doneTexels) + " / " +
@@ -161,7 +173,7 @@ private:
                                           });
         if (result_.solved->pool) {
             HemicubeDrawTotals gather = result_.solved->pool->drawTotals();
-            gather -= result_.report.hemicubeDraws.solve;
+            gather -= drawnBefore;
             result_.report.hemicubeDraws.finalGather = gather;
         }
         for (LightmapImage& image : result_.lightmaps) lm.stats.dilated += dilate(image, s.lightmap.dilationTexels);

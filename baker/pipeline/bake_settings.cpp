@@ -83,6 +83,7 @@ void visitKnobs(BakeSettings& s, Visitor&& v) {
     v("keepExistingUv", lm.keepExistingUv);
     v("texelMode", Enum<TexelMode>{lm.mode, texelModeName, parseTexelMode});
     v("latticeStep", lm.latticeStep);
+    v("gatherResolution", lm.gatherResolution);
     v("interpolationTolerance", lm.interpolationTolerance);
     v("invalidBackfaceFraction", lm.invalidBackfaceFraction);
     v("gatherTexelDirect", lm.gatherTexelDirect);
