@@ -224,8 +224,9 @@ CommandRunner addBakeCommand(CLI::App& app) {
     cmd->add_option("--lattice", o->lattice, "Adaptive placement: hemicubes on every Nth texel first, then midpoints only "
                                              "where the light is not locally linear (1 = every texel)")->check(CLI::IsMember({1, 2, 4, 8, 16}));
     cmd->add_option("--gather-res", o->gatherRes,
-                    "Final-gather hemicube resolution R (0 = the solve's --hemicube-res). Gathers see only bounced light "
-                    "and sky (direct light is traced per texel), so they need less than the solve: presets use half its R")
+                    "Final-gather hemicube resolution R (0 = the solve's --hemicube-res; every preset: 0). Gathers see only "
+                    "bounced light and sky (direct light is traced per texel): on a 10k level R=32 under medium's 64 took "
+                    "30% off the final gather and kept every room's mean, but per texel error rose 1.9% -> 2.8% RMS")
         ->check(CLI::Range(0, 4096));
     cmd->add_option("--interp-tolerance", o->interpTolerance,
                     "Adaptive placement: a texel is interpolated when the curvature its lattice neighbours show is "

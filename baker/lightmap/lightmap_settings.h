@@ -20,9 +20,9 @@ struct LightmapSettings {
     int paddingTexels = 2;
     TexelMode mode = TexelMode::Gather;
     int latticeStep = 4;            // Elias-style placement: hemicubes on every 4th texel first (power of two)
-    // Final-gather hemicube resolution R; 0 = the solve's. With direct light traced per texel a gather sees only
-    // bounced light and sky, smooth enough for a coarser hemicube than the solve's form factors need (typical: half
-    // the solve's R; docs/performance.md "Final gathers at R = 32").
+    // Final-gather hemicube resolution R; 0 = the solve's (every preset). A gather sees only bounced light and sky
+    // (direct light is traced per texel): half the solve's R keeps room means and costs per-texel accuracy (clean 10k
+    // level at medium: final gather −30 %, per texel 1.90 → 2.84 % RMS; docs/performance.md, session 20).
     int gatherResolution = 0;
     double interpolationTolerance = 0.05;  // interpolate a texel when its lattice neighbours agree within this
     double invalidBackfaceFraction = 0.1;  // a texel whose hemicube sees more back faces is inside geometry
