@@ -88,6 +88,7 @@ private:
         if (done_[i] || x % step || y % step) return;
         if (phase == Phase::Lattice) {
             batch_.push_back(std::uint32_t(i));
+            ++stats_.renderedLattice;
             return;
         }
         const bool oddX = (x / step) % 2 == 1, oddY = (y / step) % 2 == 1;
@@ -105,6 +106,7 @@ private:
             ++stats_.interpolated;
         } else {
             batch_.push_back(std::uint32_t(i));
+            ++(e.ok ? stats_.renderedDisagreeing : stats_.renderedUnsupported);
         }
     }
 

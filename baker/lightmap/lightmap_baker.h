@@ -23,7 +23,10 @@ struct SolvedScene;
 
 struct LightmapStats {
     std::size_t texels = 0;
-    std::size_t rendered = 0;      // texels that rendered a hemicube
+    std::size_t rendered = 0;      // texels that rendered a hemicube: the three below
+    std::size_t renderedLattice = 0;      // on the coarse lattice (1 in latticeStep² texels)
+    std::size_t renderedUnsupported = 0;  // a neighbour interpolation needs is off the chart, out of sight or inside
+    std::size_t renderedDisagreeing = 0;  // the neighbours were there but disagreed beyond the tolerance
     std::size_t interpolated = 0;  // texels interpolated from agreeing lattice neighbours
     std::size_t invalid = 0;       // texels inside geometry (mostly back faces seen), refilled from neighbours
     std::size_t dilated = 0;       // padding texels filled (by dilate(), before seam stitching)

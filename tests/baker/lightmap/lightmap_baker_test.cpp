@@ -33,6 +33,8 @@ namespace {
 struct EmitterOverSquareResult {
     double maxRel = 0.0, meanRel = 0.0, renderedFraction = 0.0;
     std::size_t texels = 0;
+    LightmapStats stats;
+    std::size_t latticeTexels = 0;  // texels on the coarse lattice (x and y multiples of latticeStep)
 };
 
 EmitterOverSquareResult bakeEmitterOverSquare(EmitterLighting emitters) {
@@ -79,7 +81,11 @@ EmitterOverSquareResult bakeEmitterOverSquare(EmitterLighting emitters) {
     std::printf("%s: floor texels %zu, rendered %.1f%%, mean |rel err| %.4f%%, max %.4f%%\n",
                 emitterLightingName(emitters), n, 100.0 * stats.renderedFraction(), 100.0 * meanRel / double(std::max<std::size_t>(n, 1)),
                 100.0 * maxRel);
-    return {maxRel, meanRel / double(std::max<std::size_t>(n, 1)), stats.renderedFraction(), n};
+    std::size_t lattice = 0;
+    for (const AtlasTexels& t : texels)
+        for (std::size_t i = 0; i < t.count(); ++i)
+            lattice += t.x[i] % settings.lightmap.latticeStep == 0 && t.y[i] % settings.lightmap.latticeStep == 0;
+    return {maxRel, meanRel / double(std::max<std::size_t>(n, 1)), stats.renderedFraction(), n, stats, lattice};
 }
 
 }  // namespace
@@ -89,6 +95,10 @@ TEST(LightmapBaker, EmitterOverSquareMatchesContourFormula) {
     ASSERT_GT(r.texels, 500u);
     EXPECT_LT(r.maxRel, 0.02);               // issue 5: within 2 %
     EXPECT_LT(r.renderedFraction, 0.5);      // and smooth light was interpolated, not rendered everywhere
+    // bake.json's renderedWhy: every rendered texel has one reason, and the lattice is exactly the coarse grid.
+    EXPECT_EQ(r.stats.renderedLattice + r.stats.renderedUnsupported + r.stats.renderedDisagreeing, r.stats.rendered);
+    EXPECT_EQ(r.stats.renderedLattice, r.latticeTexels);
+    EXPECT_GT(r.stats.renderedUnsupported, 0u);  // the charts' edges, where a lattice neighbour is off the chart
 }
 
 // With the emitter lit by rays the texel value is Lambert's formula itself (nothing occludes it; the black
