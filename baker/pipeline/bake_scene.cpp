@@ -166,13 +166,13 @@ private:
             solved.pool = std::make_unique<HemicubePool>(solved.mesh, gatherResolution);
             drawnBefore = {};
         }
-        result_.lightmaps = bakeLightmaps(scene_, *result_.solved, result_.atlas, result_.texels, rays, s.lightmap, s.solve,
+        result_.lightmaps = bakeLightmaps(scene_, solved, result_.atlas, result_.texels, rays, s.lightmap, s.solve,
                                           lm.stats, [&](std::size_t doneTexels, std::size_t total) {
                                               update("lightmaps: " + std::to_string(doneTexels) + " / " +
                                                      std::to_string(total) + " texels");
                                           });
-        if (result_.solved->pool) {
-            HemicubeDrawTotals gather = result_.solved->pool->drawTotals();
+        if (solved.pool) {
+            HemicubeDrawTotals gather = solved.pool->drawTotals();
             gather -= drawnBefore;
             result_.report.hemicubeDraws.finalGather = gather;
         }

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <string>
 
 #include "baker/pipeline/bake_scene.h"
 #include "baker/pipeline/presets.h"
@@ -26,6 +27,29 @@ Scene twoSealedRooms() {
     return b.build();
 }
 
+// Per room (instances whose node name starts with `room`): covered texels, the sum of their E/π and their largest
+// channel.
+struct RoomLight {
+    std::size_t texels = 0;
+    glm::dvec3 sum{0.0};
+    double maxChannel = 0.0;
+};
+
+RoomLight roomLight(const Scene& scene, const BakeResult& result, const std::string& room) {
+    RoomLight light;
+    for (std::size_t a = 0; a < result.texels.size(); ++a) {
+        const AtlasTexels& t = result.texels[a];
+        for (std::size_t i = 0; i < t.count(); ++i) {
+            if (scene.instances[std::size_t(t.instance[i])].source.nodeName.rfind(room, 0) != 0) continue;
+            const glm::vec3 v = result.lightmaps[a].irradianceOverPi[result.lightmaps[a].index(t.x[i], t.y[i])];
+            light.sum += glm::dvec3(v);
+            light.maxChannel = std::max({light.maxChannel, double(v.x), double(v.y), double(v.z)});
+            ++light.texels;
+        }
+    }
+    return light;
+}
+
 }  // namespace
 
 // Issue 14: the ambient term spread what was still unshot over every surface, also into rooms it cannot reach
@@ -38,17 +62,9 @@ TEST_P(SealedRoom, StaysExactlyDark) {
     settings.solve.lighting.skyRadiance = glm::vec3(1.0f);
     settings.lightmap.texelsPerUnit = 6;  // the presets' own density is not what this is about
     const BakeResult result = bakeScene(scene, settings, BakeOutput{});
-    double litSum = 0.0, darkMax = 0.0;
-    std::size_t lit = 0, dark = 0;
-    for (std::size_t a = 0; a < result.texels.size(); ++a) {
-        const AtlasTexels& t = result.texels[a];
-        for (std::size_t i = 0; i < t.count(); ++i) {
-            const std::string& room = scene.instances[std::size_t(t.instance[i])].source.nodeName;
-            const glm::vec3 v = result.lightmaps[a].irradianceOverPi[result.lightmaps[a].index(t.x[i], t.y[i])];
-            if (room.rfind("lit room", 0) == 0) litSum += v.x, ++lit;
-            if (room.rfind("dark room", 0) == 0) darkMax = std::max({darkMax, double(v.x), double(v.y), double(v.z)}), ++dark;
-        }
-    }
+    const RoomLight litRoom = roomLight(scene, result, "lit room"), darkRoom = roomLight(scene, result, "dark room");
+    const double litSum = litRoom.sum.x, darkMax = darkRoom.maxChannel;
+    const std::size_t lit = litRoom.texels, dark = darkRoom.texels;
     ASSERT_GT(lit, 50u);
     ASSERT_GT(dark, 50u);
     std::printf("%s: lit room mean E/pi %.4f over %zu texels, dark room max %.3g over %zu\n", GetParam(),
@@ -142,27 +158,13 @@ TEST(BakeScene, FinalGatherHasItsOwnResolution) {
     EXPECT_EQ(fine.report.hemicubeDraws.solve.triangles, coarseResult.report.hemicubeDraws.solve.triangles);
     EXPECT_GT(coarseResult.report.hemicubeDraws.finalGather.hemicubes, 0u);
 
-    auto roomMean = [&](const BakeResult& r, const char* room, double* maxValue) {
-        double sum = 0.0;
-        std::size_t count = 0;
-        for (std::size_t a = 0; a < r.texels.size(); ++a) {
-            const AtlasTexels& t = r.texels[a];
-            for (std::size_t i = 0; i < t.count(); ++i) {
-                if (scene.instances[std::size_t(t.instance[i])].source.nodeName.rfind(room, 0) != 0) continue;
-                const glm::vec3 v = r.lightmaps[a].irradianceOverPi[r.lightmaps[a].index(t.x[i], t.y[i])];
-                sum += (double(v.x) + v.y + v.z) / 3.0;
-                if (maxValue) *maxValue = std::max({*maxValue, double(v.x), double(v.y), double(v.z)});
-                ++count;
-            }
-        }
-        return count ? sum / double(count) : 0.0;
+    auto channelMean = [](const RoomLight& room) {
+        return room.texels ? (room.sum.x + room.sum.y + room.sum.z) / (3.0 * double(room.texels)) : 0.0;
     };
-    const double fineMean = roomMean(fine, "lit room", nullptr);
-    const double coarseMean = roomMean(coarseResult, "lit room", nullptr);
+    const double fineMean = channelMean(roomLight(scene, fine, "lit room"));
+    const double coarseMean = channelMean(roomLight(scene, coarseResult, "lit room"));
     std::printf("lit room mean E/pi: gathers at R = 64 %.5f, at R = 16 %.5f\n", fineMean, coarseMean);
     EXPECT_NE(fineMean, coarseMean) << "the gather resolution was not used";
     EXPECT_NEAR(coarseMean, fineMean, 0.005 * fineMean);
-    double darkMax = 0.0;
-    roomMean(coarseResult, "dark room", &darkMax);
-    EXPECT_EQ(darkMax, 0.0);
+    EXPECT_EQ(roomLight(scene, coarseResult, "dark room").maxChannel, 0.0);
 }
