@@ -10,7 +10,6 @@
 #include "baker/direct/direct_light.h"
 #include "baker/direct/emissive_area_lights.h"
 #include "baker/lightmap/element_interpolation.h"
-#include "baker/lightmap/texel_lattice.h"
 #include "baker/lightmap/texel_light.h"
 #include "baker/rays/embree_scene.h"
 #include "baker/solve/gatherer.h"
@@ -22,6 +21,26 @@ namespace hemibake {
 
 namespace {
 
+
+// One atlas's texels on its grid, for neighbour lookups.
+struct TexelGrid {
+    const AtlasTexels& t;
+    std::vector<std::int32_t> at;  // size² → texel index or -1
+    explicit TexelGrid(const AtlasTexels& texels) : t(texels), at(std::size_t(texels.size) * std::size_t(texels.size), -1) {
+        for (std::size_t i = 0; i < t.count(); ++i) at[std::size_t(t.y[i]) * std::size_t(t.size) + t.x[i]] = std::int32_t(i);
+    }
+    std::int32_t find(int x, int y) const {
+        if (x < 0 || y < 0 || x >= t.size || y >= t.size) return -1;
+        return at[std::size_t(y) * std::size_t(t.size) + std::size_t(x)];
+    }
+};
+
+// Neighbours can stand in for each other only on one continuous piece of surface: same instance, similar
+// normal, and as far apart in the world as in the atlas (a chart boundary breaks that).
+bool continuous(const AtlasTexels& t, std::size_t a, std::size_t b, double maxDistanceM) {
+    return t.instance[a] == t.instance[b] && glm::dot(t.normal[a], t.normal[b]) > 0.9f &&
+           glm::length(t.position[a] - t.position[b]) <= maxDistanceM;
+}
 
 using GatherFn = std::function<void(const std::vector<std::uint32_t>&, std::vector<glm::dvec3>&, std::vector<float>&)>;
 
@@ -35,7 +54,6 @@ public:
         : t_(texels), grid_(texels), settings_(settings), texelSizeM_(texelSizeM), rays_(rays), gather_(gather),
           direct_(direct), stats_(stats), done_(texels.count(), 0) {
         while (coarse_ * 2 <= std::max(settings.latticeStep, 1)) coarse_ *= 2;
-        shift_ = latticeShifts(texels, grid_, coarse_, texelSizeM);
     }
 
     // Fills `value` (E/π gathered, without direct light) and `invalid` (inside geometry) for every texel.
@@ -66,8 +84,7 @@ private:
 
     // Interpolates texel i when its neighbours at this step agree, else queues it for a hemicube.
     void visit(Phase phase, int step, std::size_t i) {
-        // Lattice coordinates: the texel's position relative to its piece's lattice origin (texel_lattice.h).
-        const int x = t_.x[i] + coarse_ - shift_[i].x, y = t_.y[i] + coarse_ - shift_[i].y;
+        const int x = t_.x[i], y = t_.y[i];
         if (done_[i] || x % step || y % step) return;
         if (phase == Phase::Lattice) {
             batch_.push_back(std::uint32_t(i));
@@ -96,9 +113,9 @@ private:
     // The value of a finished, valid neighbour on the same piece of surface and in sight of the texel (a wall
     // standing on the surface between them hides one from the other), if there is one.
     bool neighbour(std::size_t i, int dx, int dy, int step, glm::dvec3& v) const {
+        const double reach = 1.5 * std::sqrt(2.0) * step * texelSizeM_;  // world distance of a lattice neighbour
         const std::int32_t j = grid_.find(t_.x[i] + dx, t_.y[i] + dy);
-        if (j < 0 || !done_[std::size_t(j)] || (*invalid_)[std::size_t(j)] ||
-            !continuousTexels(t_, i, std::size_t(j), latticeReachM(step, texelSizeM_)) ||
+        if (j < 0 || !done_[std::size_t(j)] || (*invalid_)[std::size_t(j)] || !continuous(t_, i, std::size_t(j), 3.0 * reach) ||
             !inSight(i, std::size_t(j)))
             return false;
         v = (*value_)[std::size_t(j)];
@@ -195,7 +212,6 @@ private:
     std::vector<glm::dvec3>* value_ = nullptr;
     std::vector<std::uint8_t>* invalid_ = nullptr;
     int coarse_ = 1;
-    std::vector<LatticeShift> shift_;  // per texel, its piece's lattice origin
     double floor_ = 0.0;  // absolute agreement floor, from the coarse level's mean
     std::vector<std::uint32_t> batch_;
     std::vector<glm::dvec3> gathered_;
@@ -225,7 +241,7 @@ void refillInvalid(const AtlasTexels& texels, double texelSizeM, const EmbreeSce
             for (int dy = -1; dy <= 1; ++dy)
                 for (int dx = -1; dx <= 1; ++dx) {
                     const std::int32_t j = grid.find(texels.x[i] + dx, texels.y[i] + dy);
-                    if (j < 0 || invalid[std::size_t(j)] || !continuousTexels(texels, i, std::size_t(j), 3.0 * texelSizeM)) continue;
+                    if (j < 0 || invalid[std::size_t(j)] || !continuous(texels, i, std::size_t(j), 3.0 * texelSizeM)) continue;
                     const auto jj = std::size_t(j);
                     auto side = std::find_if(sides.begin(), sides.end(), [&](const Side& s) {
                         return !rays.occluded(texels.position[s.first], texels.position[jj]);

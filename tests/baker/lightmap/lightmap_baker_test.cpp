@@ -4,7 +4,6 @@
 
 #include "baker/lightmap/lightmap_baker.h"
 #include "baker/lightmap/lightmap_seams.h"
-#include "baker/lightmap/texel_lattice.h"
 #include "baker/pipeline/bake_settings.h"
 #include "baker/rays/embree_scene.h"
 #include "baker/solve/solve_scene.h"
@@ -35,7 +34,7 @@ struct EmitterOverSquareResult {
     double maxRel = 0.0, meanRel = 0.0, renderedFraction = 0.0;
     std::size_t texels = 0;
     LightmapStats stats;
-    std::size_t latticeTexels = 0;  // texels on the coarse lattice of their piece (texel_lattice.h)
+    std::size_t latticeTexels = 0;  // texels on the coarse lattice (x and y multiples of latticeStep)
 };
 
 EmitterOverSquareResult bakeEmitterOverSquare(EmitterLighting emitters) {
@@ -83,12 +82,9 @@ EmitterOverSquareResult bakeEmitterOverSquare(EmitterLighting emitters) {
                 emitterLightingName(emitters), n, 100.0 * stats.renderedFraction(), 100.0 * meanRel / double(std::max<std::size_t>(n, 1)),
                 100.0 * maxRel);
     std::size_t lattice = 0;
-    const int step = settings.lightmap.latticeStep;
-    for (const AtlasTexels& t : texels) {
-        const std::vector<LatticeShift> shift = latticeShifts(t, TexelGrid(t), step, 1.0 / settings.lightmap.texelsPerUnit);
+    for (const AtlasTexels& t : texels)
         for (std::size_t i = 0; i < t.count(); ++i)
-            lattice += (t.x[i] + step - shift[i].x) % step == 0 && (t.y[i] + step - shift[i].y) % step == 0;
-    }
+            lattice += t.x[i] % settings.lightmap.latticeStep == 0 && t.y[i] % settings.lightmap.latticeStep == 0;
     return {maxRel, meanRel / double(std::max<std::size_t>(n, 1)), stats.renderedFraction(), n, stats, lattice};
 }
 
@@ -99,7 +95,7 @@ TEST(LightmapBaker, EmitterOverSquareMatchesContourFormula) {
     ASSERT_GT(r.texels, 500u);
     EXPECT_LT(r.maxRel, 0.02);               // issue 5: within 2 %
     EXPECT_LT(r.renderedFraction, 0.5);      // and smooth light was interpolated, not rendered everywhere
-    // bake.json's renderedWhy: every rendered texel has one reason, and the lattice is exactly each piece's coarse grid.
+    // bake.json's renderedWhy: every rendered texel has one reason, and the lattice is exactly the coarse grid.
     EXPECT_EQ(r.stats.renderedLattice + r.stats.renderedUnsupported + r.stats.renderedDisagreeing, r.stats.rendered);
     EXPECT_EQ(r.stats.renderedLattice, r.latticeTexels);
     EXPECT_GT(r.stats.renderedUnsupported, 0u);  // the charts' edges, where a lattice neighbour is off the chart
