@@ -23,16 +23,26 @@ inline float maxAlongPlane(const glm::vec3& plane, const glm::vec3& boundsMin, c
     return glm::dot(plane, corner - eye);
 }
 
+// Smallest value of plane·(p − eye) over the box: the box lies inside the half-space when it is positive.
+inline float minAlongPlane(const glm::vec3& plane, const glm::vec3& boundsMin, const glm::vec3& boundsMax,
+                           const glm::vec3& eye) {
+    return -maxAlongPlane(-plane, boundsMin, boundsMax, eye);
+}
+
+// A test may add this bit to the faces it returns: the mask holds for the whole subtree (no need to descend).
+inline constexpr std::uint8_t kSubtreeSettled = 0x80;
+
 // Visits the chunk tree (SceneBuffers::chunkTree) from node n down with a face mask that only shrinks:
-// `test(n, node, faces)` returns the faces the subtree can still reach; where that is none, or at a leaf, `assign(node,
-// faces)` hands the mask to the node's chunks. One box test culls a whole subtree.
+// `test(n, node, faces)` returns the faces the subtree can still reach; where that is none, at a leaf, or where the test
+// marked it kSubtreeSettled, `assign(node, faces)` hands the mask to the node's chunks. One box test culls (or settles)
+// a whole subtree.
 template <class Test, class Assign>
 void cullChunkTree(std::span<const SceneBuffers::ChunkNode> tree, std::uint32_t n, std::uint8_t faces, Test& test,
                    Assign& assign) {
     const SceneBuffers::ChunkNode& node = tree[n];
     faces = test(n, node, faces);
-    if (faces == 0 || node.chunkCount == 1) {
-        assign(node, faces);
+    if (faces == 0 || (faces & kSubtreeSettled) || node.chunkCount == 1) {
+        assign(node, std::uint8_t(faces & ~kSubtreeSettled));
         return;
     }
     cullChunkTree(tree, n + 1, faces, test, assign);

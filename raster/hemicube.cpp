@@ -206,19 +206,31 @@ void HemicubeRenderer::draw(const HemicubeFrame& frame, Target target, glm::vec3
         planes[face][3] = face == 0 ? glm::vec3(f + u) : glm::vec3(u);
     }
     const glm::vec3 horizon(normal);
+    // A box wholly inside one face's frustum (by more than the slack) has pixels on no other face, and neither has
+    // anything inside it: its subtree is settled without descending (most of a level lies in such boxes).
     auto inFrustum = [&](std::uint32_t, const SceneBuffers::ChunkNode& node, std::uint8_t faceMask) {
         if (maxAlongPlane(horizon, node.boundsMin, node.boundsMax, eye) < -slack) return std::uint8_t(0);
-        for (int face = 0; face < HemicubeWeights::kFaceCount; ++face)
-            if (faceMask >> face & 1u)
-                for (const glm::vec3& plane : planes[face])
-                    if (maxAlongPlane(plane, node.boundsMin, node.boundsMax, eye) < -slack) {
-                        faceMask &= std::uint8_t(~(1u << face));
-                        break;
-                    }
+        for (int face = 0; face < HemicubeWeights::kFaceCount; ++face) {
+            if (!(faceMask >> face & 1u)) continue;
+            bool inside = true;
+            for (const glm::vec3& plane : planes[face]) {
+                if (maxAlongPlane(plane, node.boundsMin, node.boundsMax, eye) < -slack) {
+                    faceMask &= std::uint8_t(~(1u << face));
+                    inside = false;
+                    break;
+                }
+                inside = inside && minAlongPlane(plane, node.boundsMin, node.boundsMax, eye) > slack;
+            }
+            if (inside && minAlongPlane(horizon, node.boundsMin, node.boundsMax, eye) > slack)
+                return std::uint8_t((1u << face) | kSubtreeSettled);
+        }
         return faceMask;
     };
+    liveChunks_.clear();
     auto assignFaces = [&](const SceneBuffers::ChunkNode& node, std::uint8_t faceMask) {
         std::fill_n(chunkFaces_.begin() + node.firstChunk, node.chunkCount, faceMask);
+        if (faceMask)  // the tree lists its chunks in order: liveChunks_ stays ascending
+            for (std::uint32_t c = node.firstChunk; c < node.firstChunk + node.chunkCount; ++c) liveChunks_.push_back(c);
     };
     if (!chunks.empty()) cullChunkTree(scene_->chunkTree(), 0, kAllFaces, inFrustum, assignFaces);
     gl.BindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
@@ -260,20 +272,21 @@ void HemicubeRenderer::draw(const HemicubeFrame& frame, Target target, glm::vec3
         lastChunksDrawn_ += cullOccludedChunks(eye, faces, uniforms);
     for (int face = 0; face < HemicubeWeights::kFaceCount; ++face)
         lastChunksDrawn_ += drawChunks(
-            faces[face], uniforms, [&](std::size_t c) { return chunkOccluderRound_[c] == 0 && (chunkFaces_[c] >> face & 1u); },
+            faces[face], uniforms, liveChunks_,
+            [&](std::size_t c) { return chunkOccluderRound_[c] == 0 && (chunkFaces_[c] >> face & 1u); },
             drawTotals_.triangles);
     gl.BindVertexArray(0);
     gl.UseProgram(0);
 }
 
 template <class Keep>
-std::size_t HemicubeRenderer::drawChunks(const FaceProjection& face, const Uniforms& uniforms, Keep keep,
-                                         std::uint64_t& triangles) {
+std::size_t HemicubeRenderer::drawChunks(const FaceProjection& face, const Uniforms& uniforms,
+                                         std::span<const std::uint32_t> list, Keep keep, std::uint64_t& triangles) {
     const GlFunctions& gl = scene_->context().gl();
     const auto chunks = scene_->chunks();
     runs_.clear();
     std::size_t drawn = 0;
-    for (std::size_t c = 0; c < chunks.size(); ++c) {
+    for (const std::uint32_t c : list) {
         if (!keep(c)) continue;
         ++drawn;
         triangles += std::uint64_t(chunks[c].vertexCount) / 3;
@@ -299,12 +312,11 @@ std::size_t HemicubeRenderer::cullOccludedChunks(const glm::vec3& eye,
     // first), among the chunks some face draws. On level_small this beat nearest-first by ~15 % per hemicube
     // (bench_hemicube BM_LevelHemicubes): near chunks are often the other side of the wall the eye stands by.
     occluderCandidates_.clear();
-    for (std::size_t c = 0; c < chunks.size(); ++c) {
-        if (chunkFaces_[c] == 0) continue;
+    for (const std::uint32_t c : liveChunks_) {
         const glm::vec3 gap = glm::max(glm::max(chunks[c].boundsMin - eye, eye - chunks[c].boundsMax), glm::vec3(0.0f));
         const float distance2 = glm::dot(gap, gap);
         const float largeness = distance2 > 0.0f ? chunks[c].areaM2 / distance2 : std::numeric_limits<float>::max();
-        occluderCandidates_.emplace_back(-largeness, static_cast<std::uint32_t>(c));
+        occluderCandidates_.emplace_back(-largeness, c);
     }
     std::size_t batch =
         std::max<std::size_t>(1, static_cast<std::size_t>(occlusion_.occluderFraction * double(chunks.size())));
@@ -325,13 +337,16 @@ std::size_t HemicubeRenderer::cullOccludedChunks(const glm::vec3& eye,
         const std::size_t batchEnd = std::min(next + batch, occluderCandidates_.size());
         const auto first = occluderCandidates_.begin();
         std::nth_element(first + std::ptrdiff_t(next), first + std::ptrdiff_t(batchEnd), occluderCandidates_.end());
-        for (; next < batchEnd; ++next)
+        batchChunks_.clear();
+        for (; next < batchEnd; ++next) {
             chunkOccluderRound_[occluderCandidates_[next].second] = static_cast<std::uint8_t>(round);
+            batchChunks_.push_back(occluderCandidates_[next].second);
+        }
+        std::sort(batchChunks_.begin(), batchChunks_.end());
         std::uint64_t triangles = 0;
         for (int face = 0; face < HemicubeWeights::kFaceCount; ++face)
-            chunksDrawn += drawChunks(
-                faces[face], uniforms,
-                [&](std::size_t c) { return chunkOccluderRound_[c] == round && (chunkFaces_[c] >> face & 1u); }, triangles);
+            chunksDrawn += drawChunks(faces[face], uniforms, batchChunks_,
+                                      [&](std::size_t c) { return chunkFaces_[c] >> face & 1u; }, triangles);
         drawTotals_.triangles += triangles;
         drawTotals_.occluderTriangles += triangles;
         gl.ReadPixels(0, 0, weights_.atlasWidth(), weights_.atlasHeight(), GL_DEPTH_COMPONENT, GL_FLOAT,
@@ -361,6 +376,8 @@ std::size_t HemicubeRenderer::cullOccludedChunks(const glm::vec3& eye,
             if (chunkFaces_[occluderCandidates_[k].second] != 0) occluderCandidates_[kept++] = occluderCandidates_[k];
         occluderCandidates_.resize(kept);
     }
+    // What the caller draws: the chunks neither hidden nor drawn as occluders.
+    std::erase_if(liveChunks_, [&](std::uint32_t c) { return chunkFaces_[c] == 0 || chunkOccluderRound_[c] != 0; });
     return chunksDrawn;
 }
 
