@@ -170,6 +170,7 @@ HemicubeRenderer::HemicubeRenderer(const SceneBuffers& scene, int resolution, co
     chunkOccluderRound_.resize(scene.chunks().size());
     nodeFaces_.resize(scene.chunkTree().size());
     occluderCandidates_.reserve(scene.chunks().size());
+    liveChunks_.reserve(scene.chunks().size());
     runs_.firsts.reserve(scene.chunks().size());
     runs_.counts.reserve(scene.chunks().size());
 }
