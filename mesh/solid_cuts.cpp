@@ -128,7 +128,7 @@ struct OutVertex {
     OpenMesh::Vec3d normal;
     OpenMesh::Vec2f uv0, uv1;
     int sourceVertex;
-    bool pending;  // made by a cut: attributes still to interpolate
+    bool pending;  // made by a cut: attributes still to interpolate (OpenMesh vectors start uninitialised: set them)
 };
 
 }  // namespace
@@ -411,7 +411,7 @@ SurfaceMesh cutAlongSolids(const SurfaceMesh& mesh, std::size_t instance, const 
                 auto it = edgeVertex.find(key);
                 if (it == edgeVertex.end()) {
                     it = edgeVertex.emplace(key, int(verts.size())).first;
-                    verts.push_back({pa + t * (pb - pa), {}, {}, {}, -1, true});
+                    verts.push_back({pa + t * (pb - pa), OpenMesh::Vec3d(0.0), OpenMesh::Vec2f(0.0f), OpenMesh::Vec2f(0.0f), -1, true});
                 }
                 return PieceVertex{it->second, verts[std::size_t(it->second)].p, bary, ea, eb};
             }
@@ -425,7 +425,7 @@ SurfaceMesh cutAlongSolids(const SurfaceMesh& mesh, std::size_t instance, const 
             auto it = edgeVertex.find(key);
             if (it == edgeVertex.end()) {
                 it = edgeVertex.emplace(key, int(verts.size())).first;
-                verts.push_back({lo.p + t * (hi.p - lo.p), {}, {}, {}, -1, true});
+                verts.push_back({lo.p + t * (hi.p - lo.p), OpenMesh::Vec3d(0.0), OpenMesh::Vec2f(0.0f), OpenMesh::Vec2f(0.0f), -1, true});
             }
             return PieceVertex{it->second, verts[std::size_t(it->second)].p, bary, -1, -1};
         };

@@ -48,6 +48,17 @@ public:
     int& sourceVertex(VertexHandle v) { return property(sourceVertexProp, v); }
     int sourceVertex(VertexHandle v) const { return property(sourceVertexProp, v); }
 
+    // Adds a vertex at p with zero normal, texture and lightmap coordinates. Hides TriMesh::add_vertex because
+    // OpenMesh's vectors default-construct uninitialised (VectorT() {}): a vertex whose attributes a loader does not
+    // set would otherwise read stack garbage (a NaN TEXCOORD_0 in a textured furnace made the path tracer NaN on CI).
+    VertexHandle add_vertex(const Point& p) {
+        const VertexHandle v = TriMesh::add_vertex(p);
+        set_normal(v, Normal(0.0));
+        set_texcoord2D(v, TexCoord2D(0.0f));
+        lightmapUv(v) = OpenMesh::Vec2f(0.0f);
+        return v;
+    }
+
     double faceArea(FaceHandle f) const;
 
 private:
