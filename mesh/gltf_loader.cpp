@@ -421,6 +421,9 @@ private:
         if (auto it = prim.attributes.find(uv0Name); it != prim.attributes.end()) {
             uv0 = readAccessorFloats(model_, it->second, 2, path_, where + " " + uv0Name);
             if (uv0.size() / 2 != vertexCount) throw InputError(path_, where + " " + uv0Name + " count differs from POSITION count");
+        } else if (material.reflectanceTexture >= 0) {
+            warn(where + ": material '" + material.name + "' has a base-colour texture but the primitive has no " + uv0Name +
+                 " (the texture is read at UV (0, 0))");
         }
         if (auto it = prim.attributes.find("TEXCOORD_1"); it != prim.attributes.end()) {
             uv1 = readAccessorFloats(model_, it->second, 2, path_, where + " TEXCOORD_1");

@@ -191,6 +191,30 @@ TEST(GltfLoader, MaterialsLightsAndEmissiveStrength) {
     EXPECT_NEAR(scene.emittedPowerWatts().x, M_PI * 8.0 * 1.0, 1e-9);
 }
 
+// glTF requires TEXCOORD_n where a texture reads it; a file without them still loads, with a warning and every
+// vertex at UV (0, 0) (never whatever memory the vertex was built in: a NaN there made a bake NaN).
+TEST(GltfLoader, TexturedMaterialWithoutItsTexcoordsIsNamedInAWarning) {
+    TempDir dir;
+    GltfFixture g;
+    const int pos = g.addPositions({0, 0, 0, 0, 0, 1, 1, 0, 1, 1, 0, 0});
+    const int material = g.addMaterial(
+        {{"name", "painted"},
+         {"pbrMetallicRoughness",
+          {{"baseColorFactor", {0.5, 0.5, 0.5, 1.0}}, {"baseColorTexture", {{"index", 0}}}, {"metallicFactor", 0.0}}}});
+    g.json()["textures"] = {{{"source", 0}}};
+    // A valid 1 × 1 PNG.
+    g.json()["images"] = {{{"uri", "data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAEAAAABCAYAAAAfFcSJAAAADUlEQVR42mNk+M9QDwADhgGAWjR9awAAAABJRU5ErkJggg=="}}};
+    g.addNode({{"name", "painted"}, {"mesh", g.addMesh(pos, g.addIndicesU16({0, 1, 2, 0, 2, 3}), material, 4)}});
+    const Scene scene = loadGltf(g.writeGltf(dir, "untextured"));
+    ASSERT_EQ(scene.report.warnings.size(), 1u);
+    EXPECT_NE(scene.report.warnings[0].find("no TEXCOORD_0"), std::string::npos) << scene.report.warnings[0];
+    ASSERT_EQ(scene.instances.size(), 1u);
+    const SurfaceMesh& mesh = scene.instances[0].mesh;
+    for (const auto v : mesh.vertices()) EXPECT_EQ(mesh.texcoord2D(v), SurfaceMesh::TexCoord2D(0.0f));
+    const glm::vec3 rho = scene.reflectance(scene.instances[0].material, glm::vec2(0.0f));
+    for (int c = 0; c < 3; ++c) EXPECT_TRUE(std::isfinite(rho[c]) && rho[c] >= 0.0f && rho[c] <= 0.999f) << rho[c];
+}
+
 TEST(GltfLoader, GlbAndEmbeddedBuffersLoad) {
     TempDir dir;
     const GltfFixture g = hemibake::test::unitQuadFixture();

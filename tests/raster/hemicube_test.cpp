@@ -41,6 +41,9 @@ struct PointTolerance {
     double rms;  // expected RMS relative error at R = 128 (from §3.6 or derived), before kTableNoise
 };
 
+// GoogleTest would otherwise print the struct's bytes, padding included (uninitialised: valgrind reports it).
+void PrintTo(const PointTolerance& p, std::ostream* os) { *os << p.name << " (RMS " << p.rms << ")"; }
+
 class PointCaseTest : public ::testing::TestWithParam<PointTolerance> {};
 
 TEST_P(PointCaseTest, MatchesGroundTruthWithinTheHemicubeTables) {
