@@ -10,6 +10,7 @@
 #include "baker/direct/direct_light.h"
 #include "baker/direct/emissive_area_lights.h"
 #include "baker/lightmap/element_interpolation.h"
+#include "baker/lightmap/ray_gatherer.h"
 #include "baker/lightmap/texel_light.h"
 #include "baker/rays/embree_scene.h"
 #include "baker/solve/gatherer.h"
@@ -340,12 +341,44 @@ public:
                 light = makeTexelLight(scene, solved.mesh, atlas, texels, directValue_, elementDirectOverPi, radiance,
                                        stats.texelDirect);
             }
-            solved.pool->setTexelLight(std::move(light));
+            if (settings.finalGather == FinalGather::Rays)
+                rayGatherer_ = std::make_unique<RayGatherer>(solved.mesh, raysPerTexel(settings, *solved.pool),
+                                                             solve.solver.seed ^ 0x5EEDull);
+            show(radiance, std::move(light));
+        }
+    }
+
+    // Rays per gathered texel: as set, or 0 = as many as the gather hemicube's front face has pixels (R²).
+    static int raysPerTexel(const LightmapSettings& settings, const HemicubePool& pool) {
+        const int r = settings.gatherResolution > 0 ? settings.gatherResolution : pool.resolution();
+        return settings.gatherRays > 0 ? settings.gatherRays : r * r;
+    }
+
+    // What the next gathers see: element radiance and the light inside elements.
+    void show(const std::vector<glm::vec3>& radiance, std::shared_ptr<const TexelLight> light) {
+        if (rayGatherer_) {
+            rayGatherer_->setElementRadiance(radiance);
+            rayGatherer_->setTexelLight(std::move(light));
+        } else {
+            solved_.pool->setTexelLight(std::move(light));
             gatherer_.setElementRadiance(radiance);
         }
     }
 
-    // E/π of atlas `a`'s texels by adaptively placed final-gather hemicubes plus direct light per texel.
+    // E/π at the points (texels `ids` of one atlas) by the final gather's method (rays or hemicubes); counts rays
+    // traced in `stats`. A texel's rays depend on its index and `sweep` only, not on the batch it is gathered in.
+    void gatherAt(const std::vector<GatherPoint>& points, const std::vector<std::uint32_t>& ids, std::uint64_t sweep,
+                  std::vector<glm::dvec3>& out, std::vector<float>* backface, LightmapStats& stats) {
+        if (rayGatherer_) {
+            rayGatherer_->gather(points, solve_.lighting.skyRadiance, sweep, out, backface, ids);
+            stats.gatherRaysPerTexel = rayGatherer_->raysPerPoint();
+            stats.gatherRaysTraced += std::uint64_t(points.size()) * std::uint64_t(rayGatherer_->raysPerPoint());
+        } else {
+            gatherer_.gather(points, solve_.lighting.skyRadiance, sweep, out, backface);
+        }
+    }
+
+    // E/π of atlas `a`'s texels by adaptively placed final gathers (rays or hemicubes) plus direct light per texel.
     // `inside` receives the texels found inside geometry (before they were refilled).
     std::vector<glm::dvec3> gathered(std::size_t a, const AtlasTexels& t, double texelSizeM, LightmapStats& stats,
                                      const std::function<void(std::size_t)>& advanced, std::vector<std::uint8_t>& inside) {
@@ -353,7 +386,7 @@ public:
                                     std::vector<float>& backface) {
             std::vector<GatherPoint> points(ids.size());
             for (std::size_t k = 0; k < ids.size(); ++k) points[k] = {t.position[ids[k]], t.normal[ids[k]]};
-            gatherer_.gather(points, solve_.lighting.skyRadiance, a + 1, out, &backface);
+            gatherAt(points, ids, a + 1, out, &backface, stats);
         };
         // Direct light at every texel: its shadows are as sharp as the texel grid allows.
         static const std::vector<glm::dvec3> kNone;
@@ -407,15 +440,15 @@ public:
             TexelLightStats ts;
             // Not normalised to the elements in the gap: there they are what is wrong (a 1.6 m element lets the light
             // the panel reflects spread and escape, where in the gap it bounces back and forth).
-            solved_.pool->setTexelLight(
-                makeTexelLight(scene_, mesh, atlas_, texels, values, elementOverPi, radiance, ts, &isGap));
-            gatherer_.setElementRadiance(radiance);
+            std::shared_ptr<const TexelLight> light =
+                makeTexelLight(scene_, mesh, atlas_, texels, values, elementOverPi, radiance, ts, &isGap);
+            show(radiance, std::move(light));
             std::vector<std::vector<glm::dvec3>> next(texels.size());
             for (std::size_t a = 0; a < texels.size(); ++a) {
                 std::vector<GatherPoint> points(gaps[a].size());
                 for (std::size_t k = 0; k < points.size(); ++k)
                     points[k] = {texels[a].position[gaps[a][k]], texels[a].normal[gaps[a][k]]};
-                gatherer_.gather(points, solve_.lighting.skyRadiance, (std::uint64_t(pass) + 1) * 0x10000ull + a, next[a]);
+                gatherAt(points, gaps[a], (std::uint64_t(pass) + 1) * 0x10000ull + a, next[a], nullptr, stats);
             }
             double change = 0.0, total = 0.0;
             for (std::size_t a = 0; a < texels.size(); ++a)
@@ -478,6 +511,7 @@ private:
     std::unique_ptr<DirectLight> direct_;
     std::vector<std::vector<glm::dvec3>> directValue_;  // E/π per texel per atlas, when there is ray-traced light
     Gatherer gatherer_;
+    std::unique_ptr<RayGatherer> rayGatherer_;  // the final gather by rays (FinalGather::Rays), else hemicubes
     ElementInterpolator interpolator_;
 };
 

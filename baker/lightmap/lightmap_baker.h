@@ -23,7 +23,7 @@ struct SolvedScene;
 
 struct LightmapStats {
     std::size_t texels = 0;
-    std::size_t rendered = 0;      // texels that rendered a hemicube: the three below
+    std::size_t rendered = 0;      // texels gathered (rays or a hemicube): the three below
     std::size_t renderedLattice = 0;      // on the coarse lattice (1 in latticeStep² texels)
     std::size_t renderedUnsupported = 0;  // a neighbour interpolation needs is off the chart, out of sight or inside
     std::size_t renderedDisagreeing = 0;  // the neighbours were there but disagreed beyond the tolerance
@@ -34,6 +34,8 @@ struct LightmapStats {
     std::size_t gapTexels = 0;   // texels re-gathered across gaps narrower than elements (refineGaps)
     int gapPasses = 0;
     double gapLastChange = 0.0;  // what the last gap pass changed, relative to the gap texels' light
+    int gatherRaysPerTexel = 0;            // final gather by rays: rays per gathered texel (0: hemicubes)
+    std::uint64_t gatherRaysTraced = 0;    // final gather by rays: all of them, gap passes included
     double renderedFraction() const { return texels ? double(rendered) / double(texels) : 0.0; }
 };
 

@@ -13,6 +13,14 @@ TexelMode parseTexelMode(const std::string& name) {
     throw std::invalid_argument("unknown texel mode '" + name + "' (gather or interpolate)");
 }
 
+const char* finalGatherName(FinalGather method) { return method == FinalGather::Rays ? "rays" : "hemicube"; }
+
+FinalGather parseFinalGather(const std::string& name) {
+    if (name == "rays") return FinalGather::Rays;
+    if (name == "hemicube") return FinalGather::Hemicube;
+    throw std::invalid_argument("unknown final gather '" + name + "' (rays or hemicube)");
+}
+
 UnwrapSettings unwrapSettingsFor(const LightmapSettings& lightmap) {
     UnwrapSettings u;
     u.texelsPerUnit = lightmap.texelsPerUnit;

@@ -14,12 +14,28 @@ enum class TexelMode {
 const char* texelModeName(TexelMode mode);
 TexelMode parseTexelMode(const std::string& name);  // throws std::invalid_argument
 
+// How a gathered texel sees the solved scene (both see the same elements, texel light and sky).
+enum class FinalGather {
+    Rays,      // stratified cosine rays through Embree (every preset): the hemicube's accuracy at a fifth of its time
+    Hemicube,  // a radiance hemicube of gatherResolution through OSMesa
+};
+const char* finalGatherName(FinalGather method);
+FinalGather parseFinalGather(const std::string& name);  // throws std::invalid_argument
+
+// The most rays per gathered texel a bake accepts (1,024²: the ray count of an R = 1,024 hemicube's front face).
+constexpr int kMaxGatherRays = 1 << 20;
+
 struct LightmapSettings {
     double texelsPerUnit = 0.0;     // texels per metre; 0 = from the preset and scene size (defaultTexelsPerUnit)
     int maxAtlasSize = 1024;
     int paddingTexels = 2;
     TexelMode mode = TexelMode::Gather;
     int latticeStep = 4;            // Elias-style placement: hemicubes on every 4th texel first (power of two)
+    FinalGather finalGather = FinalGather::Rays;
+    // Rays per gathered texel (FinalGather::Rays), rounded down to a square of strata; 0 = R² of the gather
+    // resolution below (every preset: 4,096 at medium's R = 64). On the generated 10k levels 4,096 rays gave the
+    // per-texel and per-object errors of R = 64 hemicubes (docs/performance.md, "A final gather by rays").
+    int gatherRays = 0;
     // Final-gather hemicube resolution R; 0 = the solve's (every preset). A gather sees only bounced light and sky
     // (direct light is traced per texel): half the solve's R keeps room means and costs per-texel accuracy (clean 10k
     // level at medium: final gather −30 %, per texel 1.90 → 2.84 % RMS; docs/performance.md, session 20).

@@ -68,6 +68,7 @@ nlohmann::json lightmapJson(const LightmapReport& lm) {
             {"renderedWhy", {{"lattice", st.renderedLattice},
                              {"unsupported", st.renderedUnsupported},
                              {"disagreeing", st.renderedDisagreeing}}},
+            {"finalGatherRays", {{"perTexel", st.gatherRaysPerTexel}, {"traced", st.gatherRaysTraced}}},
             {"interpolatedTexels", st.interpolated},
             {"invalidTexels", st.invalid},
             {"dilatedTexels", st.dilated},

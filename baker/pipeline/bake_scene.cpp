@@ -75,6 +75,8 @@ private:
         if (r < 2 || r % 2) throw std::invalid_argument("--hemicube-res must be an even number >= 2");
         const int g = s.lightmap.gatherResolution;
         if (g != 0 && (g < 2 || g % 2)) throw std::invalid_argument("--gather-res must be 0 or an even number >= 2");
+        if (s.lightmap.gatherRays < 0 || s.lightmap.gatherRays > kMaxGatherRays)
+            throw std::invalid_argument("--gather-rays must be 0 (R squared) or 1 ... " + std::to_string(kMaxGatherRays));
         if (!(s.lightmap.texelsPerUnit > 0.0)) s.lightmap.texelsPerUnit = defaultTexelsPerUnit(s.preset, sceneDiagonalM);
         return s;
     }
@@ -161,8 +163,8 @@ private:
         SolvedScene& solved = *result_.solved;
         HemicubeDrawTotals drawnBefore = result_.report.hemicubeDraws.solve;
         const int gatherResolution = s.lightmap.gatherResolution;
-        if (s.lightmap.mode == TexelMode::Gather && solved.pool && gatherResolution > 0 &&
-            gatherResolution != solved.pool->resolution()) {
+        if (s.lightmap.mode == TexelMode::Gather && s.lightmap.finalGather == FinalGather::Hemicube && solved.pool &&
+            gatherResolution > 0 && gatherResolution != solved.pool->resolution()) {
             solved.pool = std::make_unique<HemicubePool>(solved.mesh, gatherResolution);
             drawnBefore = {};
         }
@@ -208,7 +210,8 @@ private:
         }
         stage("write");
         done("lightmaps: " + std::to_string(result_.lightmaps.size()) + " atlas(es), " + std::to_string(lm.stats.texels) +
-             " texels, " + percent(lm.stats.renderedFraction()) + " rendered by hemicube, max seam step " +
+             " texels, " + percent(lm.stats.renderedFraction()) + " gathered by " +
+             (s.lightmap.mode == TexelMode::Gather ? finalGatherName(s.lightmap.finalGather) : "none") + ", max seam step " +
              percent(lm.seams.maxRelativeBefore) + " -> " + percent(lm.seams.maxRelativeAfter));
     }
 

@@ -83,6 +83,8 @@ void visitKnobs(BakeSettings& s, Visitor&& v) {
     v("keepExistingUv", lm.keepExistingUv);
     v("texelMode", Enum<TexelMode>{lm.mode, texelModeName, parseTexelMode});
     v("latticeStep", lm.latticeStep);
+    v("finalGather", Enum<FinalGather>{lm.finalGather, finalGatherName, parseFinalGather});
+    v("gatherRays", lm.gatherRays);
     v("gatherResolution", lm.gatherResolution);
     v("interpolationTolerance", lm.interpolationTolerance);
     v("invalidBackfaceFraction", lm.invalidBackfaceFraction);

@@ -1,0 +1,75 @@
+#pragma once
+// The final gather by rays: E/π at a point is the mean radiance its cosine-distributed rays meet on the solved
+// elements (plus the texel light inside them, and the sky where they escape): the same integral a radiance
+// hemicube (baker/solve/gatherer.h) takes over its pixels, seen through the same elements and TexelLight.
+//
+// Why: a final-gather hemicube at R = 64 draws a few thousand triangles through llvmpipe (≈ 6 ms on the 100k level),
+// where Embree traces 4,096 rays in under 1 ms; the gather sees only bounced light and sky, smooth enough that
+// stratified rays match the hemicube's error (docs/performance.md, "A final gather by rays").
+//
+// What a ray sees, as a hemicube pixel would:
+//  - the front of an element: its radiance, plus scale × the TexelLight layer at the hit's lightmap UV (bilinear,
+//    clamped at the layer's edge, as GL_LINEAR + GL_CLAMP_TO_EDGE samples it);
+//  - a double-sided surface from either side: the copy whose front faces the ray (the two copies are coincident
+//    triangles; the other one is filtered out, where the hemicube pushes it back in depth);
+//  - the back of a single-sided element: black, and counted (backfaceFraction, to find points inside geometry);
+//  - nothing: the sky radiance.
+// Ray origins are lifted off the surface by a fixed fraction of the scene diagonal (as EmbreeScene's Lifted ends),
+// so nothing nearer is missed whatever the ray's angle.
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "baker/solve/gatherer.h"
+#include "mesh/patches.h"
+#include "raster/scene_buffers.h"
+
+namespace hemibake {
+
+class RayGatherer {
+public:
+    // Rays per point are rounded down to a square (strata × strata, at least 1): each stratum of the unit square
+    // gets one jittered ray, mapped to the hemisphere by Malley's method. Typical: 4,096 (64 × 64; matches R = 64
+    // hemicubes on levels). Builds an Embree scene over `mesh`'s elements; `mesh` must outlive this.
+    // Throws std::runtime_error if Embree fails.
+    RayGatherer(const PatchMesh& mesh, int raysPerPoint, std::uint64_t seed);
+    ~RayGatherer();
+    RayGatherer(const RayGatherer&) = delete;
+    RayGatherer& operator=(const RayGatherer&) = delete;
+
+    // What the gathers see next: outgoing radiance per element (W·m⁻²·sr⁻¹), and light inside elements (nullptr:
+    // none). Not thread-safe against a running gather.
+    void setElementRadiance(std::vector<glm::vec3> radiance);
+    void setTexelLight(std::shared_ptr<const TexelLight> light);
+
+    // E/π at every point, in parallel over every core. A point's rays depend only on (`sweep`, its key): keys[k] for
+    // point k (e.g. its texel index: a texel gets the same rays whatever else is gathered with it), or k when `keys`
+    // is empty. `backfaceFraction`, if given, receives each point's share of rays that met the back of a single-sided
+    // surface. Throws std::invalid_argument if keys are given but not one per point.
+    void gather(const std::vector<GatherPoint>& points, glm::vec3 skyRadiance, std::uint64_t sweep,
+                std::vector<glm::dvec3>& irradianceOverPi, std::vector<float>* backfaceFraction = nullptr,
+                std::span<const std::uint32_t> keys = {}) const;
+
+    int raysPerPoint() const { return strata_ * strata_; }
+    // How far ray origins sit above their surface: kRayEpsilonRelative of the element bounds' diagonal.
+    double rayOffsetM() const { return rayOffsetM_; }
+
+private:
+    struct Embree;
+    struct Seen;
+    Seen trace(const glm::dvec3& origin, const glm::dvec3& dir) const;
+    glm::dvec3 texelLightAt(std::uint32_t element, double b1, double b2) const;
+
+    const PatchMesh& mesh_;
+    int strata_ = 1;
+    std::uint64_t seed_ = 0;
+    double rayOffsetM_ = 0.0;
+    std::unique_ptr<Embree> embree_;
+    std::vector<glm::vec3> radiance_;
+    std::shared_ptr<const TexelLight> texelLight_;
+};
+
+}  // namespace hemibake
