@@ -10,12 +10,11 @@
 // What a ray sees, as a hemicube pixel would:
 //  - the front of an element: its radiance, plus scale × the TexelLight layer at the hit's lightmap UV (bilinear,
 //    clamped at the layer's edge, as GL_LINEAR + GL_CLAMP_TO_EDGE samples it);
-//  - a double-sided surface from either side: the copy whose front faces the ray (the two copies are coincident
-//    triangles; the other one is filtered out, where the hemicube pushes it back in depth);
+//  - a double-sided surface from either side: the copy whose front faces the ray (baker/rays/element_ray_scene.h);
 //  - the back of a single-sided element: black, and counted (backfaceFraction, to find points inside geometry);
 //  - nothing: the sky radiance.
-// Ray origins are lifted off the surface by a fixed fraction of the scene diagonal (as EmbreeScene's Lifted ends),
-// so nothing nearer is missed whatever the ray's angle.
+// Ray origins are lifted off the surface by a fixed fraction of the scene diagonal (ElementRayScene::lift), so nothing
+// nearer is missed whatever the ray's angle.
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -23,6 +22,7 @@
 
 #include <glm/glm.hpp>
 
+#include "baker/rays/element_ray_scene.h"
 #include "baker/solve/gatherer.h"
 #include "mesh/patches.h"
 #include "raster/scene_buffers.h"
@@ -33,7 +33,7 @@ class RayGatherer {
 public:
     // Rays per point are rounded down to a square (strata × strata, at least 1): each stratum of the unit square
     // gets one jittered ray, mapped to the hemisphere by Malley's method. Typical: 4,096 (64 × 64; matches R = 64
-    // hemicubes on levels). Builds an Embree scene over `mesh`'s elements; `mesh` must outlive this.
+    // hemicubes on levels). Builds an ElementRayScene over `mesh`; `mesh` must outlive this.
     // Throws std::runtime_error if Embree fails.
     RayGatherer(const PatchMesh& mesh, int raysPerPoint, std::uint64_t seed);
     ~RayGatherer();
@@ -54,20 +54,13 @@ public:
                 std::span<const std::uint32_t> keys = {}) const;
 
     int raysPerPoint() const { return strata_ * strata_; }
-    // How far ray origins sit above their surface: kRayEpsilonRelative of the element bounds' diagonal.
-    double rayOffsetM() const { return rayOffsetM_; }
 
 private:
-    struct Embree;
-    struct Seen;
-    Seen trace(const glm::dvec3& origin, const glm::dvec3& dir) const;
     glm::dvec3 texelLightAt(std::uint32_t element, double b1, double b2) const;
 
-    const PatchMesh& mesh_;
     int strata_ = 1;
     std::uint64_t seed_ = 0;
-    double rayOffsetM_ = 0.0;
-    std::unique_ptr<Embree> embree_;
+    std::unique_ptr<ElementRayScene> scene_;
     std::vector<glm::vec3> radiance_;
     std::shared_ptr<const TexelLight> texelLight_;
 };

@@ -1,0 +1,51 @@
+#pragma once
+// Rays against the solver's elements (not the input triangles): what a hemicube pixel shows, found by Embree.
+// primID = element index. Vertices are float relative to the centre of the elements' bounds, as in EmbreeScene.
+//
+// A double-sided surface is two coincident elements with opposite normals (mesh/patches.h). Both are in the BVH; an
+// intersection filter drops the one whose back the ray meets, so the other one is found at the same distance (a
+// hemicube pushes it back in depth instead). An element without such a twin seen from behind is a Back hit.
+//
+// Thread safety: trace() may run concurrently.
+#include <cstdint>
+#include <memory>
+
+#include <glm/glm.hpp>
+
+#include "mesh/patches.h"
+
+namespace hemibake {
+
+struct ElementHit {
+    enum class Kind { Sky, Front, Back } kind = Kind::Sky;
+    std::uint32_t element = 0;
+    double b1 = 0.0, b2 = 0.0;  // barycentric weights of the element's corners 1 and 2
+    double distanceM = 0.0;     // along the unit direction
+};
+
+class ElementRayScene {
+public:
+    // Builds the BVH over `mesh`'s elements; `mesh` must outlive this. Throws std::runtime_error if Embree fails.
+    explicit ElementRayScene(const PatchMesh& mesh);
+    ~ElementRayScene();
+    ElementRayScene(const ElementRayScene&) = delete;
+    ElementRayScene& operator=(const ElementRayScene&) = delete;
+
+    // The nearest element along the ray from `origin` (lifted off its surface, see lift()) in unit direction `dir`.
+    ElementHit trace(const glm::dvec3& origin, const glm::dvec3& dir) const;
+    // A ray origin above surface point p along unit normal n: far enough that float error cannot put it back
+    // under the surface at any angle (EmbreeScene::kRayEpsilonRelative of the elements' diagonal), so nothing
+    // nearer than that is skipped.
+    glm::dvec3 lift(const glm::dvec3& p, const glm::dvec3& n) const { return p + rayOffsetM_ * n; }
+    double rayOffsetM() const { return rayOffsetM_; }
+    std::size_t twinElements() const { return twins_; }  // elements with a coincident opposite copy
+
+private:
+    struct Embree;
+    const PatchMesh& mesh_;
+    std::unique_ptr<Embree> embree_;
+    double rayOffsetM_ = 0.0;
+    std::size_t twins_ = 0;
+};
+
+}  // namespace hemibake
