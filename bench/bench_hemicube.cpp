@@ -21,6 +21,7 @@
 #include <random>
 #include <vector>
 
+#include "baker/lightmap/ray_gatherer.h"
 #include "mesh/gltf_loader.h"
 #include "mesh/subdivision.h"
 #include "raster/hemicube_pool.h"
@@ -258,6 +259,33 @@ BENCHMARK(BM_LevelHemicubes)
     ->UseRealTime()
     ->MinTime(2.0);
 void BM_RadianceGather(benchmark::State& state) { runHemicubes(state, Mode::Gather); }
+
+// The final gather by rays at the level hemicubes' points (baker/lightmap/ray_gatherer.h): what BM_LevelHemicubes'
+// gather rows cost as rays, per point and per ray, on one worker or two.
+void BM_LevelRayGather(benchmark::State& state) {
+    const int rays = static_cast<int>(state.range(0));
+    const int threads = static_cast<int>(state.range(1));
+    const PatchMesh& mesh = levelSmall();
+    RayGatherer gatherer(mesh, rays, 1);
+    gatherer.setElementRadiance(std::vector<glm::vec3>(mesh.elements.size(), glm::vec3(1.0f)));
+    std::vector<GatherPoint> points;
+    for (const HemicubeFrame& f : frames(mesh, 64)) points.push_back({f.position, glm::vec3(f.normal)});
+    std::vector<glm::dvec3> out;
+    tbb::task_arena arena(threads);
+    std::uint64_t sweep = 0;
+    for (auto _ : state) arena.execute([&] { gatherer.gather(points, glm::vec3(0.5f), ++sweep, out); });
+    const double gathered = double(state.iterations()) * double(points.size());
+    state.SetItemsProcessed(static_cast<std::int64_t>(gathered));
+    state.counters["triangles"] = double(mesh.elements.size());
+    state.counters["ms/point"] = benchmark::Counter(gathered / 1e3, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+    state.counters["Mrays/s"] = benchmark::Counter(gathered * gatherer.raysPerPoint() / 1e6, benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_LevelRayGather)
+    ->ArgNames({"rays", "threads"})
+    ->ArgsProduct({{1024, 4096, 16384}, {1, 2}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->MinTime(1.0);
 
 BENCHMARK(BM_ItemBuffer)
     ->ArgNames({"ktris", "R", "threads"})

@@ -23,7 +23,8 @@ struct BakeOptions {
     std::string outDir;
     std::string preset = "medium";
     std::optional<double> patchSize, elementSize, emitterPatchSize, epsilon, maxTime, proximity, formFactorCacheMiB;
-    std::optional<int> hemicubeRes, gatherSweeps, adaptiveLevels, directStepLevels;
+    std::optional<int> hemicubeRes, gatherSweeps, adaptiveLevels, directStepLevels, rowRays;
+    std::optional<std::string> rowSampling;
     std::optional<double> adaptiveThreshold, roomFraction, unevenShotSpread;
     std::optional<std::uint64_t> maxShots;
     std::optional<std::string> solver, emitters;
@@ -68,6 +69,8 @@ BakeSettings resolveSettings(const BakeOptions& o, double sceneDiagonalM) {
     override(o.maxTime, solver.maxTimeSeconds);
     override(o.maxShots, solver.maxShots);
     override(o.hemicubeRes, solver.hemicubeResolution);
+    override(o.rowRays, solver.rowRays);
+    if (o.rowSampling) solver.rowSampling = parseRowSampling(*o.rowSampling);
     if (o.gatherSweeps) {
         solver.gatherSweeps = *o.gatherSweeps;
         solver.maxGatherSweeps = std::max(*o.gatherSweeps, 1);
@@ -159,6 +162,15 @@ CommandRunner addBakeCommand(CLI::App& app) {
     cmd->add_option("--hemicube-res", o->hemicubeRes,
                     "Hemicube resolution R (front face R×R pixels); form-factor error falls as ~R^-1.5 (docs/accuracy.md)")
         ->check(CLI::Range(2, 4096));
+    cmd->add_option("--shoot-rows", o->rowSampling,
+                    "How a shooting patch finds what it sees. hemicube (every preset): an item-buffer hemicube through "
+                    "OSMesa, exact delta form factors; rays: stratified cosine rays through Embree into the elements, "
+                    "each 1/N of the hemisphere (cost grows with the log of the level's size, not with what is drawn)")
+        ->check(CLI::IsMember({"hemicube", "rays"}));
+    cmd->add_option("--row-rays", o->rowRays,
+                    "Rays per shooting row with --shoot-rows rays, rounded down to a square (0 = 3 R squared, the "
+                    "hemicube's pixel count)")
+        ->check(CLI::Range(0, 1 << 20));
     cmd->add_option("--solver", o->solver,
                     "shoot: progressive refinement only; gather: Jacobi sweeps only; hybrid: shoot, then gather at receivers")
         ->check(CLI::IsMember({"shoot", "gather", "hybrid"}));

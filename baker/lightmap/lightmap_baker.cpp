@@ -342,8 +342,11 @@ public:
                                        stats.texelDirect);
             }
             if (settings.finalGather == FinalGather::Rays)
-                rayGatherer_ = std::make_unique<RayGatherer>(solved.mesh, raysPerTexel(settings, *solved.pool),
-                                                             solve.solver.seed ^ 0x5EEDull);
+                rayGatherer_ = solved.elementRays
+                                   ? std::make_unique<RayGatherer>(*solved.elementRays, raysPerTexel(settings, *solved.pool),
+                                                                   solve.solver.seed ^ 0x5EEDull)
+                                   : std::make_unique<RayGatherer>(solved.mesh, raysPerTexel(settings, *solved.pool),
+                                                                   solve.solver.seed ^ 0x5EEDull);
             show(radiance, std::move(light));
         }
     }

@@ -5,16 +5,28 @@
 #include <stdexcept>
 #include <string>
 
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include "mesh/frame_math.h"
 
 namespace hemibake {
 
-RayGatherer::RayGatherer(const PatchMesh& mesh, int raysPerPoint, std::uint64_t seed)
-    : seed_(seed), scene_(std::make_unique<ElementRayScene>(mesh)) {
-    while ((strata_ + 1) * (strata_ + 1) <= raysPerPoint) ++strata_;
+namespace {
+// The largest strata count whose square is at most `rays` (at least 1).
+int strataFor(int rays) {
+    int strata = 1;
+    while ((strata + 1) * (strata + 1) <= rays) ++strata;
+    return strata;
 }
+}  // namespace
+
+RayGatherer::RayGatherer(const PatchMesh& mesh, int raysPerPoint, std::uint64_t seed)
+    : strata_(strataFor(raysPerPoint)), seed_(seed), ownScene_(std::make_unique<ElementRayScene>(mesh)),
+      scene_(ownScene_.get()) {}
+
+RayGatherer::RayGatherer(const ElementRayScene& scene, int raysPerPoint, std::uint64_t seed)
+    : strata_(strataFor(raysPerPoint)), seed_(seed), scene_(&scene) {}
 
 RayGatherer::~RayGatherer() = default;
 
@@ -55,6 +67,11 @@ void RayGatherer::gather(const std::vector<GatherPoint>& points, glm::vec3 skyRa
     const std::uint64_t base = splitMix64(seed_ ^ splitMix64(sweep));
     const bool texelLightOn = texelLight_ && texelLight_->atlasSize > 0;
     const double strata = double(strata_);
+    struct Scratch {
+        std::vector<glm::dvec3> dirs;
+        std::vector<ElementHit> hits;
+    };
+    tbb::enumerable_thread_specific<Scratch> scratch;
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 8), [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t i = r.begin(); i != r.end(); ++i) {
             const glm::dvec3 n = glm::normalize(glm::dvec3(points[i].normal));
@@ -72,21 +89,27 @@ void RayGatherer::gather(const std::vector<GatherPoint>& points, glm::vec3 skyRa
             const glm::dvec3 origin = scene_->lift(points[i].position, n);
             glm::dvec3 sum(0.0);
             std::uint64_t backs = 0;
+            std::vector<glm::dvec3>& dirs = scratch.local().dirs;
+            std::vector<ElementHit>& hits = scratch.local().hits;
+            dirs.clear();
             for (int sy = 0; sy < strata_; ++sy)
                 for (int sx = 0; sx < strata_; ++sx) {
                     const glm::dvec2 d = concentricDisk((sx + uniform()) / strata, (sy + uniform()) / strata);
                     const double z = std::sqrt(std::max(0.0, 1.0 - glm::dot(d, d)));
-                    const glm::dvec3 dir = glm::normalize(d.x * t + d.y * b + z * n);
-                    const ElementHit seen = scene_->trace(origin, dir);
-                    if (seen.kind == ElementHit::Kind::Sky) {
-                        sum += glm::dvec3(skyRadiance);
-                    } else if (seen.kind == ElementHit::Kind::Back) {
-                        ++backs;
-                    } else {
-                        if (seen.element < radiance_.size()) sum += glm::dvec3(radiance_[seen.element]);
-                        if (texelLightOn) sum += texelLightAt(seen.element, seen.b1, seen.b2);
-                    }
+                    dirs.push_back(glm::normalize(d.x * t + d.y * b + z * n));
                 }
+            hits.resize(dirs.size());
+            scene_->trace(origin, dirs, hits);
+            for (const ElementHit& seen : hits) {
+                if (seen.kind == ElementHit::Kind::Sky) {
+                    sum += glm::dvec3(skyRadiance);
+                } else if (seen.kind == ElementHit::Kind::Back) {
+                    ++backs;
+                } else {
+                    if (seen.element < radiance_.size()) sum += glm::dvec3(radiance_[seen.element]);
+                    if (texelLightOn) sum += texelLightAt(seen.element, seen.b1, seen.b2);
+                }
+            }
             const double rays = strata * strata;
             irradianceOverPi[i] = sum / rays;
             if (backfaceFraction) (*backfaceFraction)[i] = float(double(backs) / rays);

@@ -36,6 +36,8 @@ public:
     // hemicubes on levels). Builds an ElementRayScene over `mesh`; `mesh` must outlive this.
     // Throws std::runtime_error if Embree fails.
     RayGatherer(const PatchMesh& mesh, int raysPerPoint, std::uint64_t seed);
+    // The same through an existing `scene` (e.g. SolvedScene::elementRays), which must outlive this.
+    RayGatherer(const ElementRayScene& scene, int raysPerPoint, std::uint64_t seed);
     ~RayGatherer();
     RayGatherer(const RayGatherer&) = delete;
     RayGatherer& operator=(const RayGatherer&) = delete;
@@ -60,7 +62,8 @@ private:
 
     int strata_ = 1;
     std::uint64_t seed_ = 0;
-    std::unique_ptr<ElementRayScene> scene_;
+    std::unique_ptr<ElementRayScene> ownScene_;  // when built here
+    const ElementRayScene* scene_ = nullptr;
     std::vector<glm::vec3> radiance_;
     std::shared_ptr<const TexelLight> texelLight_;
 };

@@ -55,6 +55,8 @@ void visitKnobs(BakeSettings& s, Visitor&& v) {
     // Solve: the solver and adaptive refinement.
     v("solver", Enum<SolverKind>{so.kind, solverKindName, parseSolverKind});
     v("hemicubeResolution", so.hemicubeResolution);
+    v("rowSampling", Enum<RowSampling>{so.rowSampling, rowSamplingName, parseRowSampling});
+    v("rowRays", so.rowRays);
     v("epsilon", so.epsilon);
     v("maxTimeSeconds", so.maxTimeSeconds);
     v("maxShots", so.maxShots);

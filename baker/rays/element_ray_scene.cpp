@@ -210,4 +210,50 @@ ElementHit ElementRayScene::trace(const glm::dvec3& origin, const glm::dvec3& di
     return hit;
 }
 
+void ElementRayScene::trace(const glm::dvec3& origin, std::span<const glm::dvec3> dirs, std::span<ElementHit> hits) const {
+    if (hits.size() != dirs.size()) throw std::invalid_argument("ElementRayScene::trace: hits and directions differ in count");
+    constexpr std::size_t kPacket = 16;
+    const glm::vec3 o(origin - embree_->origin);
+    const std::vector<glm::vec3>& normals = mesh_.elements.normal;
+    for (std::size_t first = 0; first < dirs.size(); first += kPacket) {
+        const std::size_t count = std::min(kPacket, dirs.size() - first);
+        alignas(64) RTCRayHit16 packet;
+        alignas(64) int valid[kPacket];
+        for (std::size_t k = 0; k < kPacket; ++k) {
+            valid[k] = k < count ? -1 : 0;
+            const glm::dvec3& d = dirs[first + std::min(k, count - 1)];
+            packet.ray.org_x[k] = o.x;
+            packet.ray.org_y[k] = o.y;
+            packet.ray.org_z[k] = o.z;
+            packet.ray.dir_x[k] = float(d.x);
+            packet.ray.dir_y[k] = float(d.y);
+            packet.ray.dir_z[k] = float(d.z);
+            packet.ray.tnear[k] = 0.0f;
+            packet.ray.tfar[k] = std::numeric_limits<float>::infinity();
+            packet.ray.time[k] = 0.0f;
+            packet.ray.mask[k] = std::numeric_limits<unsigned>::max();
+            packet.ray.id[k] = unsigned(k);
+            packet.ray.flags[k] = 0;
+            packet.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+            packet.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+        }
+        RTCIntersectContext context;
+        rtcInitIntersectContext(&context);
+        rtcIntersect16(valid, embree_->scene, &context, &packet);
+        for (std::size_t k = 0; k < count; ++k) {
+            ElementHit& hit = hits[first + k];
+            hit = ElementHit{};
+            if (packet.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID) continue;
+            hit.element = packet.hit.primID[k];
+            hit.b1 = packet.hit.u[k];
+            hit.b2 = packet.hit.v[k];
+            hit.distanceM = packet.ray.tfar[k];
+            const glm::vec3& n = normals[hit.element];
+            hit.kind = n.x * packet.ray.dir_x[k] + n.y * packet.ray.dir_y[k] + n.z * packet.ray.dir_z[k] < 0.0f
+                           ? ElementHit::Kind::Front
+                           : ElementHit::Kind::Back;
+        }
+    }
+}
+
 }  // namespace hemibake

@@ -9,6 +9,7 @@
 // Thread safety: trace() may run concurrently.
 #include <cstdint>
 #include <memory>
+#include <span>
 
 #include <glm/glm.hpp>
 
@@ -33,6 +34,9 @@ public:
 
     // The nearest element along the ray from `origin` (lifted off its surface, see lift()) in unit direction `dir`.
     ElementHit trace(const glm::dvec3& origin, const glm::dvec3& dir) const;
+    // The same for many rays from one origin (a hemisphere's strata), traced in packets of 16: neighbouring
+    // directions share most of their BVH traversal. `hits` must be as long as `dirs`.
+    void trace(const glm::dvec3& origin, std::span<const glm::dvec3> dirs, std::span<ElementHit> hits) const;
     // A ray origin above surface point p along unit normal n: far enough that float error cannot put it back
     // under the surface at any angle (EmbreeScene::kRayEpsilonRelative of the elements' diagonal), so nothing
     // nearer than that is skipped.

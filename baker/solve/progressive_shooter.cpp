@@ -1,6 +1,7 @@
 #include "baker/solve/progressive_shooter.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <span>
@@ -10,8 +11,10 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include "baker/rays/element_ray_scene.h"
 #include "baker/util/colour.h"
 #include "baker/util/stopwatch.h"
+#include "mesh/frame_math.h"
 #include "mesh/triangle_sampling.h"
 #include "raster/hemicube.h"
 #include "raster/hemicube_pool.h"
@@ -34,11 +37,6 @@ constexpr double kTightFraction = 1.0 / 8.0;
 constexpr double kTightCover = 0.5;
 constexpr int kTightSamplesPerSide = 3;
 
-// Whether the renderer's last form-factor render, from an element or patch of this size, faced a tight gap.
-bool facesTightGap(const HemicubeRenderer& renderer, const FormFactorList& list, double sizeM) {
-    const double nearM = kTightFraction * sizeM;
-    return list.minDepthM < nearM && renderer.formFactorNearerThan(nearM) > kTightCover;
-}
 
 // body(k) for every k < count, in parallel inside a shot (its picks): a shot with 16 picks (4 × 4 points each in a
 // tight gap) would otherwise hold one thread for hundreds of hemicubes while the batch's other shots are long done.
@@ -72,6 +70,8 @@ struct ProgressiveShooter::Shot {
 // Per-thread scratch for merging several hemicubes' form factors: a dense accumulator and the ids it touched.
 struct ProgressiveShooter::MergeScratch {
     FormFactorList list;
+    std::vector<float> rayDistances;    // rows by rays: the last sample's hit distances (front and back), metres
+    std::vector<std::uint32_t> rayHits; // rows by rays: the elements the last sample's rays hit on their front
     std::vector<double> dense;
     std::vector<std::uint32_t> touched;
     std::vector<double> values;
@@ -110,8 +110,8 @@ struct ProgressiveShooter::MergeScratch {
 };
 
 ProgressiveShooter::ProgressiveShooter(const PatchMesh& mesh, RadiositySolution& solution, HemicubePool& pool,
-                                       const SolverSettings& settings)
-    : mesh_(mesh), solution_(solution), pool_(pool), settings_(settings), queue_(mesh.patches.size()),
+                                       const SolverSettings& settings, const ElementRayScene* rowRays)
+    : mesh_(mesh), solution_(solution), pool_(pool), rowRays_(rowRays), settings_(settings), queue_(mesh.patches.size()),
       scratch_(std::make_unique<tbb::enumerable_thread_specific<MergeScratch>>()),
       // Slots: each patch's row, each element's own row (elementSlot), each patch's last uneven row (unevenSlot).
       cache_(std::make_unique<FormFactorCache>(2 * mesh.patches.size() + mesh.elements.size(),
@@ -120,9 +120,17 @@ ProgressiveShooter::ProgressiveShooter(const PatchMesh& mesh, RadiositySolution&
     queuedAtShot_.assign(mesh.patches.size(), 0);
     unshotW_.assign(mesh.elements.size(), 0.0);
     singlePixelFormFactor_.assign(mesh.elements.size(), 0.0f);
-    const HemicubeWeights weights(settings.hemicubeResolution);
-    const std::span<const double> pixels = weights.weights();
-    largestPixelFormFactor_ = pixels.empty() ? 0.0 : *std::max_element(pixels.begin(), pixels.end());
+    if (rowRays_) {
+        const int r = settings.hemicubeResolution;
+        const long long rays = settings.rowRays > 0 ? settings.rowRays : 3ll * r * r;
+        rowStrata_ = 1;
+        while ((long long)(rowStrata_ + 1) * (rowStrata_ + 1) <= rays) ++rowStrata_;
+        largestPixelFormFactor_ = 1.0 / (double(rowStrata_) * double(rowStrata_));  // one ray's share
+    } else {
+        const HemicubeWeights weights(settings.hemicubeResolution);
+        const std::span<const double> pixels = weights.weights();
+        largestPixelFormFactor_ = pixels.empty() ? 0.0 : *std::max_element(pixels.begin(), pixels.end());
+    }
     for (const glm::vec3& rho : mesh.elements.reflectance)
         maxReflectance_ = std::max({maxReflectance_, double(rho.x), double(rho.y), double(rho.z)});
 }
@@ -248,12 +256,11 @@ std::uint32_t ProgressiveShooter::renderRow(std::uint32_t patch, std::uint64_t s
     });
     if (allCached) return mergeElementRows(picks, shot);
 
-    HemicubeRenderer& renderer = pool_.local();
     MergeScratch& scratch = scratch_->local();
     HemicubeFrame frame = HemicubeFrame::randomlyRotated(pa.centroid[patch], glm::dvec3(pa.normal[patch]), seed);
-    renderer.renderFormFactors(frame, scratch.list);
+    sampleRow(frame, scratch);
     const double patchSizeM = std::sqrt(2.0 * pa.areaM2[patch]);
-    if (count <= 1 && facesTightGap(renderer, scratch.list, patchSizeM)) {
+    if (count <= 1 && facesTightGap(scratch, patchSizeM)) {
         // A one-element patch facing a surface in a tight gap (a light panel's top under the ceiling).
         return 1 + mergeElementRows({{first, 1.0}}, shot);
     }
@@ -320,7 +327,6 @@ const FormFactorRow* ProgressiveShooter::nextRow(std::uint32_t patch) const {
 }
 
 void ProgressiveShooter::renderElementRow(std::uint32_t e, std::uint64_t rotation, FormFactorRow& row) const {
-    HemicubeRenderer& renderer = pool_.local();
     MergeScratch& scratch = scratch_->local();
     const ElementArrays& el = mesh_.elements;
     scratch.begin(el.size(), row);
@@ -331,10 +337,10 @@ void ProgressiveShooter::renderElementRow(std::uint32_t e, std::uint64_t rotatio
         row.skyFraction += weight * scratch.list.skyFraction;
         row.backfaceFraction += weight * scratch.list.backfaceFraction;
     };
-    renderer.renderFormFactors(HemicubeFrame::randomlyRotated(el.centroid[e], normal, rotation), scratch.list);
+    sampleRow(HemicubeFrame::randomlyRotated(el.centroid[e], normal, rotation), scratch);
     const double elementSizeM = std::sqrt(2.0 * el.areaM2[e]);
     const double wholeArea = triangleArea(el, e);
-    if (el.areaM2[e] < wholeArea * (1.0 - 1e-6) || !facesTightGap(renderer, scratch.list, elementSizeM)) {
+    if (el.areaM2[e] < wholeArea * (1.0 - 1e-6) || !facesTightGap(scratch, elementSizeM)) {
         add(1.0);
         scratch.finish(1.0, row);
         return;
@@ -349,11 +355,69 @@ void ProgressiveShooter::renderElementRow(std::uint32_t e, std::uint64_t rotatio
     const double weight = 1.0 / double(kTightSamplesPerSide * kTightSamplesPerSide);
     forEachSubTriangleCentroid(kTightSamplesPerSide, [&](double wa, double wb) {
         const glm::dvec3 p = wa * a + wb * b + (1.0 - wa - wb) * c;
-        renderer.renderFormFactors(HemicubeFrame::randomlyRotated(p, normal, rotation * 31u + std::uint64_t(point++)),
-                                   scratch.list);
+        sampleRow(HemicubeFrame::randomlyRotated(p, normal, rotation * 31u + std::uint64_t(point++)), scratch);
         add(weight);
     });
     scratch.finish(1.0, row);
+}
+
+void ProgressiveShooter::sampleRow(const HemicubeFrame& frame, MergeScratch& scratch) const {
+    if (!rowRays_) {
+        pool_.local().renderFormFactors(frame, scratch.list);
+        return;
+    }
+    FormFactorList& list = scratch.list;
+    list.clear();
+    scratch.rayDistances.clear();
+    scratch.rayHits.clear();
+    glm::dvec3 t, b;
+    frame.tangentFrame(t, b);
+    const glm::dvec3 n = glm::normalize(frame.normal);
+    const glm::dvec3 origin = rowRays_->lift(frame.position, n);
+    // The frame's rotation is drawn from the caller's seed: its bits seed the jitter too.
+    std::uint64_t state = splitMix64(std::bit_cast<std::uint64_t>(frame.rotationRadians));
+    const auto uniform = [&state] {
+        state = splitMix64(state);
+        return double(state >> 11) * 0x1.0p-53;
+    };
+    const int strata = rowStrata_;
+    std::uint64_t sky = 0, back = 0;
+    for (int sy = 0; sy < strata; ++sy)
+        for (int sx = 0; sx < strata; ++sx) {
+            const glm::dvec2 d = concentricDisk((sx + uniform()) / strata, (sy + uniform()) / strata);
+            const double z = std::sqrt(std::max(0.0, 1.0 - glm::dot(d, d)));
+            const ElementHit hit = rowRays_->trace(origin, glm::normalize(d.x * t + d.y * b + z * n));
+            if (hit.kind == ElementHit::Kind::Sky) {
+                ++sky;
+                continue;
+            }
+            scratch.rayDistances.push_back(float(hit.distanceM));
+            list.minDepthM = std::min(list.minDepthM, hit.distanceM);
+            if (hit.kind == ElementHit::Kind::Back) ++back;
+            else scratch.rayHits.push_back(hit.element);
+        }
+    // Each ray is 1/N of the cosine-weighted hemisphere: F(point → element) = its rays / N, summing exactly with the
+    // sky and back-face shares to 1.
+    const double share = 1.0 / (double(strata) * double(strata));
+    std::sort(scratch.rayHits.begin(), scratch.rayHits.end());
+    for (std::size_t i = 0; i < scratch.rayHits.size();) {
+        std::size_t j = i;
+        while (j < scratch.rayHits.size() && scratch.rayHits[j] == scratch.rayHits[i]) ++j;
+        list.elements.push_back(scratch.rayHits[i]);
+        list.formFactors.push_back(double(j - i) * share);
+        i = j;
+    }
+    list.skyFraction = double(sky) * share;
+    list.backfaceFraction = double(back) * share;
+}
+
+bool ProgressiveShooter::facesTightGap(const MergeScratch& scratch, double sizeM) const {
+    const double nearM = kTightFraction * sizeM;
+    if (!(scratch.list.minDepthM < nearM)) return false;
+    if (!rowRays_) return pool_.local().formFactorNearerThan(nearM) > kTightCover;
+    const auto nearer = std::count_if(scratch.rayDistances.begin(), scratch.rayDistances.end(),
+                                      [&](float d) { return double(d) < nearM; });
+    return double(nearer) / (double(rowStrata_) * double(rowStrata_)) > kTightCover;
 }
 
 void ProgressiveShooter::applyShot(const Shot& shot) {

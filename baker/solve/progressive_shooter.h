@@ -20,7 +20,9 @@
 
 namespace hemibake {
 
+class ElementRayScene;
 class HemicubePool;
+struct HemicubeFrame;
 
 // Power in W per channel, accumulated over the whole solve (for the energy balance check).
 struct ShootingLedger {
@@ -39,8 +41,10 @@ struct ShootingLedger {
 
 class ProgressiveShooter {
 public:
+    // Rows are sampled by `pool`'s item-buffer hemicubes, or by rays into `rowRays` (built on `mesh`) when given
+    // (settings.rowSampling == RowSampling::Rays). Both must outlive the shooter.
     ProgressiveShooter(const PatchMesh& mesh, RadiositySolution& solution, HemicubePool& pool,
-                       const SolverSettings& settings);
+                       const SolverSettings& settings, const ElementRayScene* rowRays = nullptr);
     ~ProgressiveShooter();
 
     // Emission: B = π·L_e on every emitting element, and (if `shoot`) its patch's unshot radiosity. Without
@@ -106,6 +110,11 @@ private:
     // One element's row: a hemicube at its centroid rotated by `rotation`, or, facing a tight gap, the mean of
     // kTightSamplesPerSide² hemicubes over it. Uses this thread's renderer and scratch; thread-safe across threads.
     void renderElementRow(std::uint32_t element, std::uint64_t rotation, FormFactorRow& row) const;
+    // One row sample at `frame` into scratch.list: an item-buffer hemicube of this thread's renderer, or rowRays_'s
+    // stratified cosine rays (each 1/N of the hemisphere). Thread-safe across threads.
+    void sampleRow(const HemicubeFrame& frame, MergeScratch& scratch) const;
+    // Whether the last sampleRow into `scratch`, from an element or patch of this size, faced a tight gap.
+    bool facesTightGap(const MergeScratch& scratch, double sizeM) const;
     // The cached row that predicts `patch`'s next shot: its row, or, its light lying unevenly, the row of its last
     // uneven shot (the next one re-weights the same elements by the light they hold then); null if none.
     const FormFactorRow* nextRow(std::uint32_t patch) const;
@@ -129,6 +138,8 @@ private:
     const PatchMesh& mesh_;
     RadiositySolution& solution_;
     HemicubePool& pool_;
+    const ElementRayScene* rowRays_ = nullptr;  // rows by rays when set
+    int rowStrata_ = 0;                         // rows by rays: strata² rays per row
     SolverSettings settings_;
     UnshotQueue queue_;
     ShootingLedger ledger_;

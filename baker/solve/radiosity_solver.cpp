@@ -2,12 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <unordered_map>
 
 #include "baker/direct/direct_light.h"
 #include "baker/direct/emissive_area_lights.h"
 #include "baker/direct/sky_light.h"
 #include "baker/rays/embree_scene.h"
+#include "baker/rays/element_ray_scene.h"
 #include "baker/solve/gatherer.h"
 #include "baker/solve/progressive_shooter.h"
 #include "baker/util/colour.h"
@@ -198,10 +200,10 @@ void replaceImplausibleReceivers(const PatchMesh& mesh, const SolveSettings& set
 
 // Progressive shooting to the bound; fills the report's shooting figures and power ledger.
 // `singlePixelFormFactor` receives ProgressiveShooter::singlePixelFormFactor().
-void shootToBound(const PatchMesh& mesh, const SolveSettings& settings, HemicubePool& pool, const InjectedLight& light,
-                  double startSeconds, RadiositySolution& solution, SolveReport& report, const SolveProgress& progress,
-                  std::vector<float>& singlePixelFormFactor) {
-    ProgressiveShooter shooter(mesh, solution, pool, settings.solver);
+void shootToBound(const PatchMesh& mesh, const SolveSettings& settings, HemicubePool& pool, const ElementRayScene* rowRays,
+                  const InjectedLight& light, double startSeconds, RadiositySolution& solution, SolveReport& report,
+                  const SolveProgress& progress, std::vector<float>& singlePixelFormFactor) {
+    ProgressiveShooter shooter(mesh, solution, pool, settings.solver, rowRays);
     shooter.injectEmission(!light.areaLights);
     shooter.injectIrradiance(light.injected);
     report.stopReason = shooter.run(
@@ -287,7 +289,14 @@ void gatherSweeps(const PatchMesh& mesh, const SolveSettings& settings, Hemicube
 }  // namespace
 
 SolveReport solveRadiosity(const Scene& scene, const PatchMesh& mesh, const SolveSettings& settings, HemicubePool& pool,
-                           const EmbreeScene& rays, RadiositySolution& solution, const SolveProgress& progress) {
+                           const EmbreeScene& rays, RadiositySolution& solution, const SolveProgress& progress,
+                           const ElementRayScene* rowRays) {
+    std::unique_ptr<ElementRayScene> ownRowRays;
+    if (settings.solver.rowSampling == RowSampling::Rays && !rowRays) {
+        ownRowRays = std::make_unique<ElementRayScene>(mesh);
+        rowRays = ownRowRays.get();
+    }
+    if (settings.solver.rowSampling != RowSampling::Rays) rowRays = nullptr;
     SolveReport report;
     solution.resize(mesh);
     const ElementArrays& el = mesh.elements;
@@ -301,7 +310,7 @@ SolveReport solveRadiosity(const Scene& scene, const PatchMesh& mesh, const Solv
     std::vector<float> singlePixelFormFactor;
     if (kind == SolverKind::Shoot || kind == SolverKind::Hybrid) {
         const double t0 = clock.seconds();
-        shootToBound(mesh, settings, pool, light, t0, solution, report, progress, singlePixelFormFactor);
+        shootToBound(mesh, settings, pool, rowRays, light, t0, solution, report, progress, singlePixelFormFactor);
         report.shootSeconds = clock.seconds() - t0;
     } else {
         for (std::size_t e = 0; e < el.size(); ++e) {

@@ -13,6 +13,7 @@
 namespace hemibake {
 
 class EmbreeScene;
+class ElementRayScene;
 class HemicubePool;
 
 struct SolveReport {
@@ -51,9 +52,11 @@ struct SolveReport {
 
 using SolveProgress = std::function<void(const std::string& stage, const ConvergenceRecord&)>;
 
-// Solves `mesh` (subdivided from `scene`, with `pool` and `rays` built on them) into `solution`. Uses every core;
-// throws std::invalid_argument on bad settings.
+// Solves `mesh` (subdivided from `scene`, with `pool` and `rays` built on them) into `solution`. Shooting rows are
+// sampled by rays into `rowRays` (built on `mesh`) when settings.solver.rowSampling asks for rays; given null, the
+// solve builds its own. Uses every core; throws std::invalid_argument on bad settings.
 SolveReport solveRadiosity(const Scene& scene, const PatchMesh& mesh, const SolveSettings& settings, HemicubePool& pool,
-                           const EmbreeScene& rays, RadiositySolution& solution, const SolveProgress& progress = {});
+                           const EmbreeScene& rays, RadiositySolution& solution, const SolveProgress& progress = {},
+                           const ElementRayScene* rowRays = nullptr);
 
 }  // namespace hemibake

@@ -1,5 +1,6 @@
 #include "baker/solve/solve_scene.h"
 
+#include "baker/rays/element_ray_scene.h"
 #include "baker/solve/adaptive_refinement.h"
 #include "baker/solve/direct_steps.h"
 #include "raster/hemicube_pool.h"
@@ -37,10 +38,13 @@ std::unique_ptr<SolvedScene> solveScene(const Scene& scene, const SolveSettings&
     // Subdivides (with `request`'s refinement regions), trims to exposed areas and solves from scratch.
     auto subdivideAndSolve = [&](const RefinementRequest* request) {
         solved.pool.reset();
+        solved.elementRays.reset();
         solved.mesh = subdivideApart(scene, rays, settings.subdivision, request, settings.sides, &solved.sides);
         solved.exposedArea = applyExposedAreas(scene, rays, solved.mesh, settings.exposure);
         solved.pool = std::make_unique<HemicubePool>(solved.mesh, settings.solver.hemicubeResolution);
-        solved.report = solveRadiosity(scene, solved.mesh, settings, *solved.pool, rays, solved.solution, progress);
+        if (settings.solver.rowSampling == RowSampling::Rays) solved.elementRays = std::make_unique<ElementRayScene>(solved.mesh);
+        solved.report = solveRadiosity(scene, solved.mesh, settings, *solved.pool, rays, solved.solution, progress,
+                                       solved.elementRays.get());
     };
     // Regions accumulate (room scale, then each adaptive level): each re-subdivision starts from the unrefined mesh.
     RefinementRequest request = findRoomScaleRegions(scene, rays, settings, &solved.roomScale);

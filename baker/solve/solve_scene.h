@@ -14,6 +14,7 @@
 
 namespace hemibake {
 
+class ElementRayScene;
 class EmbreeScene;
 class HemicubePool;
 
@@ -22,6 +23,8 @@ struct SolvedScene {
     RadiositySolution solution;
     SolveReport report;
     std::unique_ptr<HemicubePool> pool;  // bound to `mesh`: later stages (final gather) reuse it
+    // Rays into `mesh`'s elements, built when shooting rows are sampled by rays: the final gather by rays reuses it.
+    std::unique_ptr<ElementRayScene> elementRays;
     std::size_t elementsBeforeRefinement = 0;
     std::size_t refinementRegions = 0;
     RoomScaleReport roomScale;      // elements refined to follow the rooms (before any adaptive level)

@@ -20,4 +20,12 @@ SolverKind parseSolverKind(const std::string& name) {
     throw std::invalid_argument("unknown solver '" + name + "' (shoot, gather or hybrid)");
 }
 
+const char* rowSamplingName(RowSampling sampling) { return sampling == RowSampling::Rays ? "rays" : "hemicube"; }
+
+RowSampling parseRowSampling(const std::string& name) {
+    if (name == "rays") return RowSampling::Rays;
+    if (name == "hemicube") return RowSampling::Hemicube;
+    throw std::invalid_argument("unknown row sampling '" + name + "' (hemicube or rays)");
+}
+
 }  // namespace hemibake

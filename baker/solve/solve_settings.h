@@ -18,9 +18,19 @@ enum class SolverKind {
 const char* solverKindName(SolverKind kind);
 SolverKind parseSolverKind(const std::string& name);  // throws std::invalid_argument
 
+// How a shooting row (the form factors from a point to every element it sees) is sampled.
+enum class RowSampling {
+    Hemicube,  // an item-buffer hemicube through OSMesa: exact delta form factors per pixel
+    Rays,      // stratified cosine rays through Embree into the elements, each 1/N of the hemisphere
+};
+const char* rowSamplingName(RowSampling sampling);
+RowSampling parseRowSampling(const std::string& name);  // throws std::invalid_argument
+
 struct SolverSettings {
     SolverKind kind = SolverKind::Hybrid;
     int hemicubeResolution = 128;       // R: front face R×R pixels, four R×R/2 side faces (presets 32–256)
+    RowSampling rowSampling = RowSampling::Hemicube;
+    int rowRays = 0;                    // rays per row with RowSampling::Rays, a square; 0 = 3R² (the hemicube's pixels)
     // Stop when, at every element, the irradiance still to arrive (the unshot light's next bounce, with the
     // bounces after it) is ≤ epsilon × what it has (presets 1e-2–1e-4); the bulk is shot first by power, down to
     // epsilon × injected power.
