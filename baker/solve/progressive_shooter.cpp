@@ -72,6 +72,8 @@ struct ProgressiveShooter::MergeScratch {
     FormFactorList list;
     std::vector<float> rayDistances;    // rows by rays: the last sample's hit distances (front and back), metres
     std::vector<std::uint32_t> rayHits; // rows by rays: the elements the last sample's rays hit on their front
+    std::vector<glm::dvec3> rayDirections;   // rows by rays: the last sample's directions
+    std::vector<ElementHit> elementHits;     // rows by rays: what each of them hit
     std::vector<double> dense;
     std::vector<std::uint32_t> touched;
     std::vector<double> values;
@@ -381,21 +383,26 @@ void ProgressiveShooter::sampleRow(const HemicubeFrame& frame, MergeScratch& scr
         return double(state >> 11) * 0x1.0p-53;
     };
     const int strata = rowStrata_;
-    std::uint64_t sky = 0, back = 0;
+    scratch.rayDirections.clear();
     for (int sy = 0; sy < strata; ++sy)
         for (int sx = 0; sx < strata; ++sx) {
             const glm::dvec2 d = concentricDisk((sx + uniform()) / strata, (sy + uniform()) / strata);
             const double z = std::sqrt(std::max(0.0, 1.0 - glm::dot(d, d)));
-            const ElementHit hit = rowRays_->trace(origin, glm::normalize(d.x * t + d.y * b + z * n));
-            if (hit.kind == ElementHit::Kind::Sky) {
-                ++sky;
-                continue;
-            }
-            scratch.rayDistances.push_back(float(hit.distanceM));
-            list.minDepthM = std::min(list.minDepthM, hit.distanceM);
-            if (hit.kind == ElementHit::Kind::Back) ++back;
-            else scratch.rayHits.push_back(hit.element);
+            scratch.rayDirections.push_back(glm::normalize(d.x * t + d.y * b + z * n));
         }
+    scratch.elementHits.resize(scratch.rayDirections.size());
+    rowRays_->trace(origin, scratch.rayDirections, scratch.elementHits);
+    std::uint64_t sky = 0, back = 0;
+    for (const ElementHit& hit : scratch.elementHits) {
+        if (hit.kind == ElementHit::Kind::Sky) {
+            ++sky;
+            continue;
+        }
+        scratch.rayDistances.push_back(float(hit.distanceM));
+        list.minDepthM = std::min(list.minDepthM, hit.distanceM);
+        if (hit.kind == ElementHit::Kind::Back) ++back;
+        else scratch.rayHits.push_back(hit.element);
+    }
     // Each ray is 1/N of the cosine-weighted hemisphere: F(point → element) = its rays / N, summing exactly with the
     // sky and back-face shares to 1.
     const double share = 1.0 / (double(strata) * double(strata));
