@@ -121,6 +121,8 @@ def sweep_level(a, results, kind, triangles):
                "solveDrawnFraction": draws.get("solve", {}).get("meanFractionOfScene"),
                "gatherHemicubes": draws.get("finalGather", {}).get("hemicubes"),
                "gatherDrawnFraction": draws.get("finalGather", {}).get("meanFractionOfScene"),
+               "gatherRays": report.get("lightmap", {}).get("finalGatherRays", {}).get("traced"),
+               "gatherRaysPerTexel": report.get("lightmap", {}).get("finalGatherRays", {}).get("perTexel"),
                "timings": report.get("timings"), "outDir": out_dir, **scores(a.binary, out_dir, reference)}
         level["rows"][key] = row
         save()
@@ -228,8 +230,8 @@ def write_docs(results, docs, png):
             f"Written by {command}. One process per row on this 2-core machine; peak memory from GNU time; "
             "triangles drawn per hemicube are bake.json `hemicubeDraws` (summed over the five faces, occluder pass "
             "included) over the level's triangles.", "",
-            "| level | texels | preset | time (s) | peak MiB | µs / texel | KiB / texel | solve hemicubes | drawn (solve) | final-gather hemicubes | drawn (gather) |",
-            "|---|---|---|---|---|---|---|---|---|---|---|"]
+            "| level | texels | preset | time (s) | peak MiB | µs / texel | KiB / texel | solve hemicubes | drawn (solve) | final-gather hemicubes | drawn (gather) | final-gather rays (per texel) |",
+            "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     trade = ["## Levels: error against time", "",
              f"Written by {command}. Per texel, the headline: RMS error against the noise-free answer, relative to "
              "each primitive's mean (compare's `relativeRmseAgainstTruth`: the reference's own noise, known from the "
@@ -251,7 +253,8 @@ def write_docs(results, docs, png):
             perf.append(f"| {level['level']} ({r.get('sceneTriangles')} element triangles) | {texels} | {r['setting']} | "
                         f"{r['seconds']:.0f} | {r['peakMiB']:.0f} | {per_texel_us:.0f} | {per_texel_kib:.2f} | "
                         f"{r.get('solveHemicubes')} | {frac(r.get('solveDrawnFraction'))} | {r.get('gatherHemicubes')} | "
-                        f"{frac(r.get('gatherDrawnFraction'))} |")
+                        f"{frac(r.get('gatherDrawnFraction'))} | "
+                        f"{'—' if not r.get('gatherRays') else '{:.3g} ({})'.format(r['gatherRays'], r.get('gatherRaysPerTexel'))} |")
         ratio, t_pt, extrapolated = speedup(level)
         trade += [f"### {level['level']} at {level['texelsPerUnit']} texels/m", "",
                   f"{texels} texels; reference {level.get('referenceSpp')} spp ({level.get('referenceSeconds', 0):.0f} s).", "",
