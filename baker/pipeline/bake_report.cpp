@@ -24,6 +24,7 @@ nlohmann::json convergenceJson(const SolveReport& solve) {
     return {{"stopReason", solve.stopReason},
             {"shots", solve.shots},
             {"hemicubes", solve.hemicubes},
+            {"rowSampling", solve.rowsByRays ? "rays" : "hemicube"},
             {"cachedShots", solve.cachedShots},
             {"unevenShots", solve.unevenShots},
             {"elementRows", solve.elementRows},

@@ -42,7 +42,7 @@ struct ShootingLedger {
 class ProgressiveShooter {
 public:
     // Rows are sampled by `pool`'s item-buffer hemicubes, or by rays into `rowRays` (built on `mesh`) when given
-    // (settings.rowSampling == RowSampling::Rays). Both must outlive the shooter.
+    // (see rowsByRays). Both must outlive the shooter.
     ProgressiveShooter(const PatchMesh& mesh, RadiositySolution& solution, HemicubePool& pool,
                        const SolverSettings& settings, const ElementRayScene* rowRays = nullptr);
     ~ProgressiveShooter();

@@ -292,12 +292,14 @@ SolveReport solveRadiosity(const Scene& scene, const PatchMesh& mesh, const Solv
                            const EmbreeScene& rays, RadiositySolution& solution, const SolveProgress& progress,
                            const ElementRayScene* rowRays) {
     std::unique_ptr<ElementRayScene> ownRowRays;
-    if (settings.solver.rowSampling == RowSampling::Rays && !rowRays) {
+    const bool byRays = rowsByRays(settings.solver, mesh.elements.size());
+    if (byRays && !rowRays) {
         ownRowRays = std::make_unique<ElementRayScene>(mesh);
         rowRays = ownRowRays.get();
     }
-    if (settings.solver.rowSampling != RowSampling::Rays) rowRays = nullptr;
+    if (!byRays) rowRays = nullptr;
     SolveReport report;
+    report.rowsByRays = byRays;
     solution.resize(mesh);
     const ElementArrays& el = mesh.elements;
     const Stopwatch clock;

@@ -20,12 +20,25 @@ SolverKind parseSolverKind(const std::string& name) {
     throw std::invalid_argument("unknown solver '" + name + "' (shoot, gather or hybrid)");
 }
 
-const char* rowSamplingName(RowSampling sampling) { return sampling == RowSampling::Rays ? "rays" : "hemicube"; }
+const char* rowSamplingName(RowSampling sampling) {
+    switch (sampling) {
+        case RowSampling::Hemicube: return "hemicube";
+        case RowSampling::Rays: return "rays";
+        case RowSampling::Auto: return "auto";
+    }
+    return "?";
+}
 
 RowSampling parseRowSampling(const std::string& name) {
     if (name == "rays") return RowSampling::Rays;
     if (name == "hemicube") return RowSampling::Hemicube;
-    throw std::invalid_argument("unknown row sampling '" + name + "' (hemicube or rays)");
+    if (name == "auto") return RowSampling::Auto;
+    throw std::invalid_argument("unknown row sampling '" + name + "' (hemicube, rays or auto)");
+}
+
+bool rowsByRays(const SolverSettings& settings, std::size_t elements) {
+    return settings.rowSampling == RowSampling::Rays ||
+           (settings.rowSampling == RowSampling::Auto && elements >= kRowRaysFromElements);
 }
 
 }  // namespace hemibake

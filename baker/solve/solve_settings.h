@@ -2,6 +2,7 @@
 // The solve stage's knobs: subdivision into patches and elements, exposed-area trimming, the solver itself,
 // adaptive refinement, and the lighting it injects. Gathered in SolveSettings, which is all solveScene needs.
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <string>
 
@@ -22,14 +23,20 @@ SolverKind parseSolverKind(const std::string& name);  // throws std::invalid_arg
 enum class RowSampling {
     Hemicube,  // an item-buffer hemicube through OSMesa: exact delta form factors per pixel
     Rays,      // stratified cosine rays through Embree into the elements, each 1/N of the hemisphere
+    Auto,      // rays from kRowRaysFromElements elements up, else hemicubes (every preset)
 };
 const char* rowSamplingName(RowSampling sampling);
 RowSampling parseRowSampling(const std::string& name);  // throws std::invalid_argument
 
+// A culled hemicube costs what it draws, which grows with the level; a ray, with the log of it. Measured at medium
+// (docs/performance.md, "The final gather by rays"): at 44k elements hemicube rows solved in 86 s against 118 s by
+// rays, at 95k rays took 149 s against 181 s, at 960k rays shot 2.3× as many rows in the same 20 minutes.
+constexpr std::size_t kRowRaysFromElements = 64 * 1024;
+
 struct SolverSettings {
     SolverKind kind = SolverKind::Hybrid;
     int hemicubeResolution = 128;       // R: front face R×R pixels, four R×R/2 side faces (presets 32–256)
-    RowSampling rowSampling = RowSampling::Hemicube;
+    RowSampling rowSampling = RowSampling::Auto;
     int rowRays = 0;                    // rays per row with RowSampling::Rays, a square; 0 = 3R² (the hemicube's pixels)
     // Stop when, at every element, the irradiance still to arrive (the unshot light's next bounce, with the
     // bounces after it) is ≤ epsilon × what it has (presets 1e-2–1e-4); the bulk is shot first by power, down to
@@ -54,6 +61,9 @@ struct SolverSettings {
     int threads = 0;                    // 0 = all cores
     std::uint64_t seed = 1;             // hemicube rotations and sampling
 };
+
+// Whether `settings` sample the rows of a mesh of `elements` elements by rays (RowSampling::Auto decides by size).
+bool rowsByRays(const SolverSettings& settings, std::size_t elements);
 
 // Model only what the scene requires: after a first solve, elements whose radiosity differs from an edge
 // neighbour's by more than `threshold` (relative) are bisected down to elementSize / 2^levels, and the scene is

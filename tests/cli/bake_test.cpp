@@ -89,7 +89,8 @@ TEST(CliBake, HelpExplainsEveryKnob) {
     const auto r = runHemibake({"bake", "--help"});
     EXPECT_EQ(r.exitCode, 0);
     for (const char* knob : {"--preset", "--patch-size", "--element-size", "--hemicube-res", "--epsilon", "--solver",
-                             "--gather-sweeps", "--sky", "--max-time", "--threads", "draft", "ultra"})
+                             "--gather-sweeps", "--sky", "--max-time", "--threads", "draft", "ultra", "--final-gather",
+                             "--gather-rays", "--shoot-rows", "--row-rays"})
         EXPECT_NE(r.out.find(knob), std::string::npos) << knob;
 }
 
