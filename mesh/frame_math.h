@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <vector>
 
 #include <glm/glm.hpp>
 
@@ -37,6 +38,28 @@ inline glm::dvec3 cosineDirection(const glm::dvec3& n, double u1, double u2) {
     orthonormalBasis(n, t, b);
     const double z = std::sqrt(std::max(0.0, 1.0 - glm::dot(d, d)));
     return glm::normalize(d.x * t + d.y * b + z * n);
+}
+
+// The largest strata count whose square is at most `rays` (at least 1): stratified ray counts are squares.
+inline int strataForRays(long long rays) {
+    int strata = 1;
+    while ((long long)(strata + 1) * (strata + 1) <= rays) ++strata;
+    return strata;
+}
+
+// Appends strata² cosine-weighted directions about unit n (frame t, b, n): one jittered point per stratum of the unit
+// square, mapped by Malley's method on the concentric disk, so each is 1/strata² of the projected hemisphere.
+// `uniform()` draws from [0, 1), twice per direction.
+template <class Uniform>
+void appendStratifiedCosineDirections(const glm::dvec3& t, const glm::dvec3& b, const glm::dvec3& n, int strata,
+                                      Uniform& uniform, std::vector<glm::dvec3>& out) {
+    const double s = double(strata);
+    for (int sy = 0; sy < strata; ++sy)
+        for (int sx = 0; sx < strata; ++sx) {
+            const glm::dvec2 d = concentricDisk((sx + uniform()) / s, (sy + uniform()) / s);
+            const double z = std::sqrt(std::max(0.0, 1.0 - glm::dot(d, d)));
+            out.push_back(glm::normalize(d.x * t + d.y * b + z * n));
+        }
 }
 
 // SplitMix64 finalizer: decorrelates seeds (and seeds a stream from any integer).

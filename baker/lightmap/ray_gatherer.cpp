@@ -12,21 +12,12 @@
 
 namespace hemibake {
 
-namespace {
-// The largest strata count whose square is at most `rays` (at least 1).
-int strataFor(int rays) {
-    int strata = 1;
-    while ((strata + 1) * (strata + 1) <= rays) ++strata;
-    return strata;
-}
-}  // namespace
-
 RayGatherer::RayGatherer(const PatchMesh& mesh, int raysPerPoint, std::uint64_t seed)
-    : strata_(strataFor(raysPerPoint)), seed_(seed), ownScene_(std::make_unique<ElementRayScene>(mesh)),
+    : strata_(strataForRays(raysPerPoint)), seed_(seed), ownScene_(std::make_unique<ElementRayScene>(mesh)),
       scene_(ownScene_.get()) {}
 
 RayGatherer::RayGatherer(const ElementRayScene& scene, int raysPerPoint, std::uint64_t seed)
-    : strata_(strataFor(raysPerPoint)), seed_(seed), scene_(&scene) {}
+    : strata_(strataForRays(raysPerPoint)), seed_(seed), scene_(&scene) {}
 
 RayGatherer::~RayGatherer() = default;
 
@@ -92,12 +83,7 @@ void RayGatherer::gather(const std::vector<GatherPoint>& points, glm::vec3 skyRa
             std::vector<glm::dvec3>& dirs = scratch.local().dirs;
             std::vector<ElementHit>& hits = scratch.local().hits;
             dirs.clear();
-            for (int sy = 0; sy < strata_; ++sy)
-                for (int sx = 0; sx < strata_; ++sx) {
-                    const glm::dvec2 d = concentricDisk((sx + uniform()) / strata, (sy + uniform()) / strata);
-                    const double z = std::sqrt(std::max(0.0, 1.0 - glm::dot(d, d)));
-                    dirs.push_back(glm::normalize(d.x * t + d.y * b + z * n));
-                }
+            appendStratifiedCosineDirections(t, b, n, strata_, uniform, dirs);
             hits.resize(dirs.size());
             scene_->trace(origin, dirs, hits);
             for (const ElementHit& seen : hits) {

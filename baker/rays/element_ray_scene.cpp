@@ -66,18 +66,6 @@ std::vector<std::uint8_t> elementsWithTwins(const ElementArrays& el) {
     return hasTwin;
 }
 
-const char* embreeErrorName(RTCError error) {
-    switch (error) {
-        case RTC_ERROR_NONE: return "no error";
-        case RTC_ERROR_INVALID_ARGUMENT: return "invalid argument";
-        case RTC_ERROR_INVALID_OPERATION: return "invalid operation";
-        case RTC_ERROR_OUT_OF_MEMORY: return "out of memory";
-        case RTC_ERROR_UNSUPPORTED_CPU: return "unsupported CPU";
-        case RTC_ERROR_CANCELLED: return "cancelled";
-        default: return "unknown error";
-    }
-}
-
 }  // namespace
 
 struct ElementRayScene::Embree {
@@ -89,6 +77,7 @@ struct ElementRayScene::Embree {
     RTCDevice device = nullptr;
     RTCScene scene = nullptr;
     glm::dvec3 origin{0.0};
+    double diagonal = 0.0;  // of the elements' bounds
     std::vector<std::uint8_t> hasTwin;
     FilterData filterData{};
 
@@ -124,6 +113,7 @@ struct ElementRayScene::Embree {
             hi = glm::max(hi, v);
         }
         origin = el.vertices.empty() ? glm::dvec3(0.0) : 0.5 * (lo + hi);
+        diagonal = el.vertices.empty() ? 0.0 : glm::length(hi - lo);
         hasTwin = elementsWithTwins(el);
         filterData = {&el.normal, &hasTwin};
         if (el.size() == 0) {
@@ -164,51 +154,12 @@ struct ElementRayScene::Embree {
     }
 };
 
-ElementRayScene::ElementRayScene(const PatchMesh& mesh) : mesh_(mesh), embree_(std::make_unique<Embree>(mesh)) {
-    double diagonal = 0.0;
-    if (!mesh.elements.vertices.empty()) {
-        glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-lo);
-        for (const glm::dvec3& v : mesh.elements.vertices) {
-            lo = glm::min(lo, v);
-            hi = glm::max(hi, v);
-        }
-        diagonal = glm::length(hi - lo);
-    }
-    rayOffsetM_ = std::max(EmbreeScene::kRayEpsilonRelative * diagonal, 1e-9);
-    twins_ = std::size_t(std::count(embree_->hasTwin.begin(), embree_->hasTwin.end(), 1));
-}
+ElementRayScene::ElementRayScene(const PatchMesh& mesh)
+    : mesh_(mesh), embree_(std::make_unique<Embree>(mesh)),
+      rayOffsetM_(std::max(EmbreeScene::kRayEpsilonRelative * embree_->diagonal, 1e-9)),
+      twins_(std::size_t(std::count(embree_->hasTwin.begin(), embree_->hasTwin.end(), 1))) {}
 
 ElementRayScene::~ElementRayScene() = default;
-
-ElementHit ElementRayScene::trace(const glm::dvec3& origin, const glm::dvec3& dir) const {
-    RTCRayHit rh{};
-    const glm::dvec3 o = origin - embree_->origin;
-    rh.ray.org_x = float(o.x);
-    rh.ray.org_y = float(o.y);
-    rh.ray.org_z = float(o.z);
-    rh.ray.dir_x = float(dir.x);
-    rh.ray.dir_y = float(dir.y);
-    rh.ray.dir_z = float(dir.z);
-    rh.ray.tnear = 0.0f;
-    rh.ray.tfar = std::numeric_limits<float>::infinity();
-    rh.ray.mask = std::numeric_limits<unsigned>::max();
-    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    rtcIntersect1(embree_->scene, &context, &rh);
-    ElementHit hit;
-    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return hit;
-    hit.element = rh.hit.primID;
-    hit.b1 = rh.hit.u;
-    hit.b2 = rh.hit.v;
-    hit.distanceM = rh.ray.tfar;
-    // In float, as the filter decides, so a twin it kept is never counted as a back face.
-    const glm::vec3& n = mesh_.elements.normal[hit.element];
-    hit.kind = n.x * rh.ray.dir_x + n.y * rh.ray.dir_y + n.z * rh.ray.dir_z < 0.0f ? ElementHit::Kind::Front
-                                                                                  : ElementHit::Kind::Back;
-    return hit;
-}
 
 void ElementRayScene::trace(const glm::dvec3& origin, std::span<const glm::dvec3> dirs, std::span<ElementHit> hits) const {
     if (hits.size() != dirs.size()) throw std::invalid_argument("ElementRayScene::trace: hits and directions differ in count");
@@ -248,6 +199,7 @@ void ElementRayScene::trace(const glm::dvec3& origin, std::span<const glm::dvec3
             hit.b1 = packet.hit.u[k];
             hit.b2 = packet.hit.v[k];
             hit.distanceM = packet.ray.tfar[k];
+            // In float, as the filter decides, so a twin it kept is never counted as a back face.
             const glm::vec3& n = normals[hit.element];
             hit.kind = n.x * packet.ray.dir_x[k] + n.y * packet.ray.dir_y[k] + n.z * packet.ray.dir_z[k] < 0.0f
                            ? ElementHit::Kind::Front

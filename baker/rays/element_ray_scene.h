@@ -32,10 +32,9 @@ public:
     ElementRayScene(const ElementRayScene&) = delete;
     ElementRayScene& operator=(const ElementRayScene&) = delete;
 
-    // The nearest element along the ray from `origin` (lifted off its surface, see lift()) in unit direction `dir`.
-    ElementHit trace(const glm::dvec3& origin, const glm::dvec3& dir) const;
-    // The same for many rays from one origin (a hemisphere's strata), traced in packets of 16: neighbouring
-    // directions share most of their BVH traversal. `hits` must be as long as `dirs`.
+    // The nearest element along each ray from `origin` (lifted off its surface, see lift()) in unit directions `dirs`
+    // (a hemisphere's strata), traced in packets of 16: neighbouring directions share most of their BVH traversal.
+    // Throws std::invalid_argument unless `hits` is as long as `dirs`.
     void trace(const glm::dvec3& origin, std::span<const glm::dvec3> dirs, std::span<ElementHit> hits) const;
     // A ray origin above surface point p along unit normal n: far enough that float error cannot put it back
     // under the surface at any angle (EmbreeScene::kRayEpsilonRelative of the elements' diagonal), so nothing

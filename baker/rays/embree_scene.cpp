@@ -13,7 +13,17 @@ struct GeometryDeleter {
     void operator()(RTCGeometryTy* geometry) const { rtcReleaseGeometry(geometry); }
 };
 
-const char* errorName(RTCError error) {
+glm::dvec3 toGlm(const OpenMesh::Vec3d& p) { return {p[0], p[1], p[2]}; }
+
+glm::dvec3 unitDirection(const glm::dvec3& dir) {
+    const double length = glm::length(dir);
+    if (!(length > 0.0) || !std::isfinite(length)) throw std::invalid_argument("EmbreeScene: ray direction is zero or not finite");
+    return dir / length;
+}
+
+}  // namespace
+
+const char* embreeErrorName(RTCError error) {
     switch (error) {
         case RTC_ERROR_NONE: return "no error";
         case RTC_ERROR_INVALID_ARGUMENT: return "invalid argument";
@@ -25,16 +35,6 @@ const char* errorName(RTCError error) {
     }
 }
 
-glm::dvec3 toGlm(const OpenMesh::Vec3d& p) { return {p[0], p[1], p[2]}; }
-
-glm::dvec3 unitDirection(const glm::dvec3& dir) {
-    const double length = glm::length(dir);
-    if (!(length > 0.0) || !std::isfinite(length)) throw std::invalid_argument("EmbreeScene: ray direction is zero or not finite");
-    return dir / length;
-}
-
-}  // namespace
-
 void EmbreeScene::DeviceDeleter::operator()(RTCDeviceTy* device) const { rtcReleaseDevice(device); }
 void EmbreeScene::SceneDeleter::operator()(RTCSceneTy* scene) const { rtcReleaseScene(scene); }
 
@@ -44,7 +44,7 @@ EmbreeScene::EmbreeScene(const Scene& scene) : scene_(&scene) {
     rayEpsilonM_ = std::max(kRayEpsilonRelative * bounds.diagonal(), 1e-9);
 
     device_.reset(rtcNewDevice(nullptr));
-    if (!device_) throw std::runtime_error(std::string("Embree: cannot create a device: ") + errorName(rtcGetDeviceError(nullptr)));
+    if (!device_) throw std::runtime_error(std::string("Embree: cannot create a device: ") + embreeErrorName(rtcGetDeviceError(nullptr)));
     rtcScene_.reset(rtcNewScene(device_.get()));
     checkDevice("creating the scene");
     // Robust mode keeps rays through shared triangle edges from slipping between the two triangles.
@@ -100,7 +100,7 @@ EmbreeScene& EmbreeScene::operator=(EmbreeScene&&) noexcept = default;
 
 void EmbreeScene::checkDevice(const char* what) const {
     const RTCError error = rtcGetDeviceError(device_.get());
-    if (error != RTC_ERROR_NONE) throw std::runtime_error(std::string("Embree: ") + errorName(error) + " while " + what);
+    if (error != RTC_ERROR_NONE) throw std::runtime_error(std::string("Embree: ") + embreeErrorName(error) + " while " + what);
 }
 
 RTCRay EmbreeScene::makeRay(const glm::dvec3& origin, const glm::dvec3& unitDir, double tNearM, double tFarM) const {

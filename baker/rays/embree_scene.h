@@ -33,6 +33,9 @@
 
 namespace hemibake {
 
+// Embree's error code as words, for exception messages.
+const char* embreeErrorName(RTCError error);
+
 struct Hit {
     std::uint32_t instance = 0;   // Scene::instances index
     std::uint32_t face = 0;       // face index in the instance's SurfaceMesh

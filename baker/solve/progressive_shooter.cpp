@@ -124,9 +124,7 @@ ProgressiveShooter::ProgressiveShooter(const PatchMesh& mesh, RadiositySolution&
     singlePixelFormFactor_.assign(mesh.elements.size(), 0.0f);
     if (rowRays_) {
         const int r = settings.hemicubeResolution;
-        const long long rays = settings.rowRays > 0 ? settings.rowRays : 3ll * r * r;
-        rowStrata_ = 1;
-        while ((long long)(rowStrata_ + 1) * (rowStrata_ + 1) <= rays) ++rowStrata_;
+        rowStrata_ = strataForRays(settings.rowRays > 0 ? settings.rowRays : 3ll * r * r);
         largestPixelFormFactor_ = 1.0 / (double(rowStrata_) * double(rowStrata_));  // one ray's share
     } else {
         const HemicubeWeights weights(settings.hemicubeResolution);
@@ -384,12 +382,7 @@ void ProgressiveShooter::sampleRow(const HemicubeFrame& frame, MergeScratch& scr
     };
     const int strata = rowStrata_;
     scratch.rayDirections.clear();
-    for (int sy = 0; sy < strata; ++sy)
-        for (int sx = 0; sx < strata; ++sx) {
-            const glm::dvec2 d = concentricDisk((sx + uniform()) / strata, (sy + uniform()) / strata);
-            const double z = std::sqrt(std::max(0.0, 1.0 - glm::dot(d, d)));
-            scratch.rayDirections.push_back(glm::normalize(d.x * t + d.y * b + z * n));
-        }
+    appendStratifiedCosineDirections(t, b, n, strata, uniform, scratch.rayDirections);
     scratch.elementHits.resize(scratch.rayDirections.size());
     rowRays_->trace(origin, scratch.rayDirections, scratch.elementHits);
     std::uint64_t sky = 0, back = 0;

@@ -50,6 +50,17 @@ inline SceneBuilder openSceneWithLamp() {
     return b;
 }
 
+// Shooting alone, no ambient term: what the closed forms of GROUND_TRUTH §2 describe. Rows as `rows` samples them.
+inline SolveSettings shootOnly(double patchSize, int resolution, RowSampling rows = RowSampling::Hemicube) {
+    SolveSettings s;
+    s.subdivision = {patchSize, patchSize / 2, patchSize};
+    s.solver.kind = SolverKind::Shoot;
+    s.solver.hemicubeResolution = resolution;
+    s.solver.ambientCorrection = false;
+    s.solver.rowSampling = rows;
+    return s;
+}
+
 inline std::unique_ptr<SolvedTestScene> solveTestScene(Scene scene, const SolveSettings& settings) {
     auto s = std::make_unique<SolvedTestScene>();
     s->scene = std::move(scene);

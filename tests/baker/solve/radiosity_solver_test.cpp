@@ -11,18 +11,10 @@ using namespace hemibake;
 using hemibake::test::meanIrradianceOverPi;
 using hemibake::test::furnace;
 using hemibake::test::openSceneWithLamp;
+using hemibake::test::shootOnly;
 using hemibake::test::solveTestScene;
 
 namespace {
-
-SolveSettings shootOnly(double patchSize, int resolution) {
-    SolveSettings s;
-    s.subdivision = {patchSize, patchSize / 2, patchSize};
-    s.solver.kind = SolverKind::Shoot;
-    s.solver.hemicubeResolution = resolution;
-    s.solver.ambientCorrection = false;
-    return s;
-}
 
 PunctualLight pointLight(const glm::dvec3& position, float intensity) {
     PunctualLight point;

@@ -9,19 +9,12 @@ using namespace hemibake;
 using hemibake::test::furnace;
 using hemibake::test::meanIrradianceOverPi;
 using hemibake::test::openSceneWithLamp;
+using hemibake::test::shootOnly;
 using hemibake::test::solveTestScene;
 
 namespace {
 
-SolveSettings shootByRays(double patchSize, int resolution) {
-    SolveSettings s;
-    s.subdivision = {patchSize, patchSize / 2, patchSize};
-    s.solver.kind = SolverKind::Shoot;
-    s.solver.hemicubeResolution = resolution;
-    s.solver.ambientCorrection = false;
-    s.solver.rowSampling = RowSampling::Rays;
-    return s;
-}
+SolveSettings shootByRays(double patchSize, int resolution) { return shootOnly(patchSize, resolution, RowSampling::Rays); }
 
 }  // namespace
 
