@@ -163,15 +163,16 @@ CommandRunner addBakeCommand(CLI::App& app) {
                     "Hemicube resolution R (front face R×R pixels); form-factor error falls as ~R^-1.5 (docs/accuracy.md)")
         ->check(CLI::Range(2, 4096));
     cmd->add_option("--shoot-rows", o->rowSampling,
-                    "How a shooting patch finds what it sees. hemicube: an item-buffer hemicube through OSMesa, exact "
-                    "delta form factors; rays: stratified cosine rays through Embree into the elements, each 1/N of the "
-                    "hemisphere; auto (every preset): rays from 65,536 elements up. A hemicube costs what it draws, a "
-                    "ray the log of the level: at 44k elements hemicube rows solved in 86 s against 118 s, at 95k rays "
-                    "in 149 s against 181 s, at 960k rays shot 2.3x the rows in the same 20 min")
-        ->check(CLI::IsMember({"hemicube", "rays", "auto"}));
+                    "How a shooting patch finds what it sees, from its centre or (something near, or its light uneven) "
+                    "from up to 16 of its elements. rays (default): R squared stratified cosine rays through Embree into "
+                    "the elements, split over those points; hemicube: an item-buffer hemicube through OSMesa per point, "
+                    "exact delta form factors. Solve at medium: clean 10k-triangle level 23 s by rays against 84 s, "
+                    "the 100k level converged in 565 s where hemicubes were stopped at 1,200 s")
+        ->check(CLI::IsMember({"hemicube", "rays"}));
     cmd->add_option("--row-rays", o->rowRays,
-                    "Rays per shooting row with --shoot-rows rays, rounded down to a square (0 = 3 R squared, the "
-                    "hemicube's pixel count)")
+                    "Rays per shooting row by rays, in all, split over the points the shot leaves from (0 = R squared, "
+                    "as a texel's final gather; 3 R squared, the hemicube's pixel count, doubled the 100k level's solve "
+                    "for the same error per object)")
         ->check(CLI::Range(0, 1 << 20));
     cmd->add_option("--solver", o->solver,
                     "shoot: progressive refinement only; gather: Jacobi sweeps only; hybrid: shoot, then gather at receivers")

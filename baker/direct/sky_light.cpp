@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <vector>
 
 #include <tbb/parallel_for.h>
 
@@ -33,20 +34,24 @@ SkyRays sampleSky(const EmbreeScene& rays, const glm::dvec3& p, const glm::dvec3
     std::uint64_t state = seed;
     SkyRays count;
     count.total = side * side;
+    std::vector<glm::dvec3> dirs;
+    dirs.reserve(std::size_t(count.total));
     for (int i = 0; i < side; ++i)
         for (int j = 0; j < side; ++j) {
             const double u = (i + uniform01(state)) / side, v = (j + uniform01(state)) / side;
             const double r = std::sqrt(u), phi = 2.0 * M_PI * v;
-            const glm::dvec3 dir = r * std::cos(phi) * t + r * std::sin(phi) * b + std::sqrt(std::max(0.0, 1.0 - u)) * n;
-            constexpr double kFar = std::numeric_limits<double>::infinity();
-            if (!countBackHits) {
-                count.open += rays.occludedRay(origin, dir, kFar, EmbreeScene::RayEnds::Lifted) ? 0 : 1;
-                continue;
-            }
-            const std::optional<Hit> hit = rays.intersect(origin, dir, kFar, EmbreeScene::RayEnds::Lifted);
-            if (!hit) ++count.open;
-            else if (!hit->frontFacing) ++count.back;
+            dirs.push_back(glm::normalize(r * std::cos(phi) * t + r * std::sin(phi) * b + std::sqrt(std::max(0.0, 1.0 - u)) * n));
         }
+    constexpr double kFar = std::numeric_limits<double>::infinity();
+    if (!countBackHits) {
+        count.open = count.total - int(rays.countOccluded(origin, dirs, kFar, EmbreeScene::RayEnds::Lifted));
+        return count;
+    }
+    for (const glm::dvec3& dir : dirs) {
+        const std::optional<Hit> hit = rays.intersect(origin, dir, kFar, EmbreeScene::RayEnds::Lifted);
+        if (!hit) ++count.open;
+        else if (!hit->frontFacing) ++count.back;
+    }
     return count;
 }
 

@@ -161,10 +161,35 @@ ElementRayScene::ElementRayScene(const PatchMesh& mesh)
 
 ElementRayScene::~ElementRayScene() = default;
 
+namespace {
+
+// What the packet tracer needs of a ray's origin: one shared, or one per ray.
+struct SharedOrigin {
+    glm::dvec3 origin;
+    const glm::dvec3& operator()(std::size_t) const { return origin; }
+};
+struct OriginPerRay {
+    std::span<const glm::dvec3> origins;
+    const glm::dvec3& operator()(std::size_t k) const { return origins[k]; }
+};
+
+}  // namespace
+
 void ElementRayScene::trace(const glm::dvec3& origin, std::span<const glm::dvec3> dirs, std::span<ElementHit> hits) const {
+    tracePackets(SharedOrigin{origin}, dirs, hits);
+}
+
+void ElementRayScene::trace(std::span<const glm::dvec3> origins, std::span<const glm::dvec3> dirs,
+                            std::span<ElementHit> hits) const {
+    if (origins.size() != dirs.size())
+        throw std::invalid_argument("ElementRayScene::trace: origins and directions differ in count");
+    tracePackets(OriginPerRay{origins}, dirs, hits);
+}
+
+template <class OriginOf>
+void ElementRayScene::tracePackets(const OriginOf& originOf, std::span<const glm::dvec3> dirs, std::span<ElementHit> hits) const {
     if (hits.size() != dirs.size()) throw std::invalid_argument("ElementRayScene::trace: hits and directions differ in count");
     constexpr std::size_t kPacket = 16;
-    const glm::vec3 o(origin - embree_->origin);
     const std::vector<glm::vec3>& normals = mesh_.elements.normal;
     for (std::size_t first = 0; first < dirs.size(); first += kPacket) {
         const std::size_t count = std::min(kPacket, dirs.size() - first);
@@ -172,7 +197,9 @@ void ElementRayScene::trace(const glm::dvec3& origin, std::span<const glm::dvec3
         alignas(64) int valid[kPacket];
         for (std::size_t k = 0; k < kPacket; ++k) {
             valid[k] = k < count ? -1 : 0;
-            const glm::dvec3& d = dirs[first + std::min(k, count - 1)];
+            const std::size_t ray = first + std::min(k, count - 1);
+            const glm::dvec3& d = dirs[ray];
+            const glm::vec3 o(originOf(ray) - embree_->origin);
             packet.ray.org_x[k] = o.x;
             packet.ray.org_y[k] = o.y;
             packet.ray.org_z[k] = o.z;

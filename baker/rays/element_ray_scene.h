@@ -36,6 +36,9 @@ public:
     // (a hemisphere's strata), traced in packets of 16: neighbouring directions share most of their BVH traversal.
     // Throws std::invalid_argument unless `hits` is as long as `dirs`.
     void trace(const glm::dvec3& origin, std::span<const glm::dvec3> dirs, std::span<ElementHit> hits) const;
+    // The same with an origin per ray (each lifted): rays from points spread over a patch. Throws
+    // std::invalid_argument unless `origins` and `hits` are as long as `dirs`.
+    void trace(std::span<const glm::dvec3> origins, std::span<const glm::dvec3> dirs, std::span<ElementHit> hits) const;
     // A ray origin above surface point p along unit normal n: far enough that float error cannot put it back
     // under the surface at any angle (EmbreeScene::kRayEpsilonRelative of the elements' diagonal), so nothing
     // nearer than that is skipped.
@@ -45,6 +48,8 @@ public:
 
 private:
     struct Embree;
+    template <class OriginOf>
+    void tracePackets(const OriginOf& originOf, std::span<const glm::dvec3> dirs, std::span<ElementHit> hits) const;
     const PatchMesh& mesh_;
     std::unique_ptr<Embree> embree_;
     double rayOffsetM_ = 0.0;

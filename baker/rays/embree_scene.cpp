@@ -136,6 +136,41 @@ bool EmbreeScene::occludedRay(const glm::dvec3& origin, const glm::dvec3& dir, d
     return ray.tfar < 0.0f;  // Embree marks an occluded ray with tfar = -inf
 }
 
+std::size_t EmbreeScene::countOccluded(const glm::dvec3& origin, std::span<const glm::dvec3> unitDirs, double tMaxM,
+                                       RayEnds start) const {
+    const double tMin = start == RayEnds::Lifted ? 0.0 : rayEpsilonM_;
+    if (!(tMaxM > tMin)) return 0;
+    constexpr std::size_t kPacket = 16;
+    const glm::vec3 o(origin - origin_);
+    std::size_t occluded = 0;
+    for (std::size_t first = 0; first < unitDirs.size(); first += kPacket) {
+        const std::size_t count = std::min(kPacket, unitDirs.size() - first);
+        alignas(64) RTCRay16 packet;
+        alignas(64) int valid[kPacket];
+        for (std::size_t k = 0; k < kPacket; ++k) {
+            valid[k] = k < count ? -1 : 0;
+            const glm::dvec3& d = unitDirs[first + std::min(k, count - 1)];
+            packet.org_x[k] = o.x;
+            packet.org_y[k] = o.y;
+            packet.org_z[k] = o.z;
+            packet.dir_x[k] = float(d.x);
+            packet.dir_y[k] = float(d.y);
+            packet.dir_z[k] = float(d.z);
+            packet.tnear[k] = float(tMin);
+            packet.tfar[k] = float(tMaxM);
+            packet.time[k] = 0.0f;
+            packet.mask[k] = std::numeric_limits<unsigned>::max();
+            packet.id[k] = unsigned(k);
+            packet.flags[k] = 0;
+        }
+        RTCIntersectContext context;
+        rtcInitIntersectContext(&context);
+        rtcOccluded16(valid, rtcScene_.get(), &context, &packet);
+        for (std::size_t k = 0; k < count; ++k) occluded += packet.tfar[k] < 0.0f ? 1 : 0;  // -inf when occluded
+    }
+    return occluded;
+}
+
 std::optional<Hit> EmbreeScene::intersect(const glm::dvec3& origin, const glm::dvec3& dir, double tMaxM, RayEnds start) const {
     const double tMin = start == RayEnds::Lifted ? 0.0 : rayEpsilonM_;
     if (!(tMaxM > tMin)) return std::nullopt;

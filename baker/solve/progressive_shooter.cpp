@@ -1,7 +1,6 @@
 #include "baker/solve/progressive_shooter.h"
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
 #include <limits>
 #include <span>
@@ -70,9 +69,9 @@ struct ProgressiveShooter::Shot {
 // Per-thread scratch for merging several hemicubes' form factors: a dense accumulator and the ids it touched.
 struct ProgressiveShooter::MergeScratch {
     FormFactorList list;
-    std::vector<float> rayDistances;    // rows by rays: the last sample's hit distances (front and back), metres
-    std::vector<std::uint32_t> rayHits; // rows by rays: the elements the last sample's rays hit on their front
-    std::vector<glm::dvec3> rayDirections;   // rows by rays: the last sample's directions
+    std::vector<glm::dvec3> rayOrigins;      // rows by rays: the row's ray origins (lifted)
+    std::vector<glm::dvec3> rayDirections;   // rows by rays: their directions
+    std::vector<double> rayWeights;          // rows by rays: each ray's share of the row
     std::vector<ElementHit> elementHits;     // rows by rays: what each of them hit
     std::vector<double> dense;
     std::vector<std::uint32_t> touched;
@@ -119,13 +118,14 @@ ProgressiveShooter::ProgressiveShooter(const PatchMesh& mesh, RadiositySolution&
       cache_(std::make_unique<FormFactorCache>(2 * mesh.patches.size() + mesh.elements.size(),
                                                std::size_t(settings.formFactorCacheMiB * 1048576.0))) {
     shotOnce_.assign(mesh.patches.size(), false);
+    shotsOfPatch_.assign(mesh.patches.size(), 0);
     queuedAtShot_.assign(mesh.patches.size(), 0);
     unshotW_.assign(mesh.elements.size(), 0.0);
     singlePixelFormFactor_.assign(mesh.elements.size(), 0.0f);
     if (rowRays_) {
         const int r = settings.hemicubeResolution;
-        rowStrata_ = strataForRays(settings.rowRays > 0 ? settings.rowRays : 3ll * r * r);
-        largestPixelFormFactor_ = 1.0 / (double(rowStrata_) * double(rowStrata_));  // one ray's share
+        rowRayCount_ = settings.rowRays > 0 ? double(settings.rowRays) : double(r) * double(r);
+        largestPixelFormFactor_ = 1.0 / rowRayCount_;  // one ray's share at most (tracePickedRow)
     } else {
         const HemicubeWeights weights(settings.hemicubeResolution);
         const std::span<const double> pixels = weights.weights();
@@ -173,6 +173,24 @@ void ProgressiveShooter::injectIrradiance(const std::vector<glm::dvec3>& irradia
 void ProgressiveShooter::renderShot(std::uint32_t patch, Shot& shot) const {
     shot.hemicubesRendered = 0;
     shot.elementRowsRendered = 0;
+    if (rowRays_) {
+        // By rays a row is one pass of N rays from its picks, whatever their number: the uneven shot's light picks,
+        // else up to 16 elements spread over the patch by area (what a hemicube shooter merges only when something
+        // is near, as 16 hemicubes). No element rows to cache or merge.
+        if (shot.uneven) {
+            shot.hemicubesRendered = tracePickedRow(shot.picks, shot.seed, shot.own);
+            shot.row = cache_->replace(unevenSlot(patch), shot.own) ? cache_->find(unevenSlot(patch)) : &shot.own;
+            return;
+        }
+        if (const FormFactorRow* cached = cache_->find(patch)) {
+            shot.row = cached;
+            cache_->countHit();
+            return;
+        }
+        shot.hemicubesRendered = tracePickedRow(areaPicks(patch), shot.seed, shot.own);
+        shot.row = cache_->store(patch, shot.own) ? cache_->find(patch) : &shot.own;
+        return;
+    }
     if (shot.uneven) {
         // Each picked element's row is cached on its own and weighted by the share of the light it holds now: the
         // picks change from shot to shot (the first shots' hot spot, later the room's even bounce), the rows do not.
@@ -242,14 +260,7 @@ std::uint32_t ProgressiveShooter::renderRow(std::uint32_t patch, std::uint64_t s
     const std::uint32_t count = pa.elementCount[patch];
     const std::uint32_t first = pa.firstElement[patch];
     // A spread subset of its elements, area-weighted: where proximity integrates the row over the patch.
-    const std::uint32_t samples = std::min(count, kMaxSamplesPerPatch);
-    double sampledArea = 0.0;
-    for (std::uint32_t s = 0; s < samples; ++s) sampledArea += el.areaM2[first + std::uint64_t(s) * count / samples];
-    std::vector<std::pair<std::uint32_t, double>> picks;
-    for (std::uint32_t s = 0; s < samples; ++s) {
-        const std::uint32_t e = first + std::uint32_t(std::uint64_t(s) * count / samples);
-        picks.emplace_back(e, el.areaM2[e] / sampledArea);
-    }
+    const std::vector<std::pair<std::uint32_t, double>> picks = areaPicks(patch);
     // Their rows all cached already (earlier uneven shots picked them): the integral costs no hemicube.
     const bool allCached = count > 1 && std::all_of(picks.begin(), picks.end(), [&](const auto& pick) {
         return cache_->find(elementSlot(pick.first)) != nullptr;
@@ -278,6 +289,21 @@ std::uint32_t ProgressiveShooter::renderRow(std::uint32_t patch, std::uint64_t s
     // row is what must fit (16 element rows cost several times one merged row, and a near patch whose row no longer
     // fits renders 16 hemicubes at every shot: kept without limit, they made the 30k level's bake 22 → 36+ min).
     return 1 + mergeElementRows(picks, shot, 2 * cache_->bytesUsed() < cache_->budgetBytes());
+}
+
+std::vector<std::pair<std::uint32_t, double>> ProgressiveShooter::areaPicks(std::uint32_t patch) const {
+    const PatchArrays& pa = mesh_.patches;
+    const ElementArrays& el = mesh_.elements;
+    const std::uint32_t count = pa.elementCount[patch], first = pa.firstElement[patch];
+    const std::uint32_t samples = std::min(count, kMaxSamplesPerPatch);
+    double sampledArea = 0.0;
+    for (std::uint32_t s = 0; s < samples; ++s) sampledArea += el.areaM2[first + std::uint64_t(s) * count / samples];
+    std::vector<std::pair<std::uint32_t, double>> picks;
+    for (std::uint32_t s = 0; s < samples; ++s) {
+        const std::uint32_t e = first + std::uint32_t(std::uint64_t(s) * count / samples);
+        picks.emplace_back(e, sampledArea > 0.0 ? el.areaM2[e] / sampledArea : 1.0 / samples);
+    }
+    return picks;
 }
 
 double ProgressiveShooter::unshotW(std::uint32_t patch) const {
@@ -362,62 +388,88 @@ void ProgressiveShooter::renderElementRow(std::uint32_t e, std::uint64_t rotatio
 }
 
 void ProgressiveShooter::sampleRow(const HemicubeFrame& frame, MergeScratch& scratch) const {
-    if (!rowRays_) {
-        pool_.local().renderFormFactors(frame, scratch.list);
-        return;
-    }
-    FormFactorList& list = scratch.list;
-    list.clear();
-    scratch.rayDistances.clear();
-    scratch.rayHits.clear();
-    glm::dvec3 t, b;
-    frame.tangentFrame(t, b);
-    const glm::dvec3 n = glm::normalize(frame.normal);
-    const glm::dvec3 origin = rowRays_->lift(frame.position, n);
-    // The frame's rotation is drawn from the caller's seed: its bits seed the jitter too.
-    std::uint64_t state = splitMix64(std::bit_cast<std::uint64_t>(frame.rotationRadians));
+    pool_.local().renderFormFactors(frame, scratch.list);
+}
+
+std::uint32_t ProgressiveShooter::tracePickedRow(const std::vector<std::pair<std::uint32_t, double>>& picks, std::uint64_t seed,
+                                               FormFactorRow& row) const {
+    const ElementArrays& el = mesh_.elements;
+    MergeScratch& scratch = scratch_->local();
+    scratch.begin(el.size(), row);
+    scratch.rayOrigins.clear();
+    scratch.rayDirections.clear();
+    scratch.rayWeights.clear();
+    double weights = 0.0;
+    for (const auto& [e, w] : picks) weights += std::max(w, 0.0);
+    if (!(weights > 0.0)) return 0;
+    std::uint64_t state = splitMix64(seed ^ 0xD1B54A32D192ED03ull);
     const auto uniform = [&state] {
         state = splitMix64(state);
         return double(state >> 11) * 0x1.0p-53;
     };
-    const int strata = rowStrata_;
-    scratch.rayDirections.clear();
-    appendStratifiedCosineDirections(t, b, n, strata, uniform, scratch.rayDirections);
+    struct PickRays {
+        std::uint32_t element;
+        std::size_t begin, end;
+    };
+    std::vector<PickRays> ranges;
+    for (const auto& [e, w] : picks) {
+        const double share = std::max(w, 0.0) / weights;
+        if (!(share > 0.0)) continue;
+        // s² ≥ share·N rays, so no ray carries more than 1/N of the row (the sliver test's one-ray share).
+        const int strata = std::max(1, int(std::ceil(std::sqrt(share * rowRayCount_) - 1e-9)));
+        const double perRay = share / (double(strata) * double(strata));
+        const glm::dvec3 normal(el.normal[e]);
+        glm::dvec3 t, b;
+        state = splitMix64(state);
+        HemicubeFrame::randomlyRotated(el.centroid[e], normal, state).tangentFrame(t, b);
+        const std::size_t before = scratch.rayDirections.size();
+        appendStratifiedCosineDirections(t, b, glm::normalize(normal), strata, uniform, scratch.rayDirections);
+        // From the element's centroid, as a hemicube row: each element shoots as if its light sat at its centre.
+        const glm::dvec3 origin = rowRays_->lift(el.centroid[e], normal);
+        const bool trimmed = el.areaM2[e] < triangleArea(el, e) * (1.0 - 1e-6);
+        scratch.rayOrigins.insert(scratch.rayOrigins.end(), scratch.rayDirections.size() - before, origin);
+        scratch.rayWeights.insert(scratch.rayWeights.end(), scratch.rayDirections.size() - before, perRay);
+        if (!trimmed) ranges.push_back({e, before, scratch.rayDirections.size()});
+    }
     scratch.elementHits.resize(scratch.rayDirections.size());
-    rowRays_->trace(origin, scratch.rayDirections, scratch.elementHits);
-    std::uint64_t sky = 0, back = 0;
-    for (const ElementHit& hit : scratch.elementHits) {
-        if (hit.kind == ElementHit::Kind::Sky) {
-            ++sky;
-            continue;
-        }
-        scratch.rayDistances.push_back(float(hit.distanceM));
-        list.minDepthM = std::min(list.minDepthM, hit.distanceM);
-        if (hit.kind == ElementHit::Kind::Back) ++back;
-        else scratch.rayHits.push_back(hit.element);
+    rowRays_->trace(scratch.rayOrigins, scratch.rayDirections, scratch.elementHits);
+    // An element facing a tight gap (its centroid's rays mostly hit within kTightFraction of its size: a panel top
+    // under the ceiling) shoots again from its kTightSamplesPerSide² sub-triangle centroids, as its hemicube row
+    // would; trimmed elements keep the centroid (parts of their triangle lie under what covers them).
+    for (const PickRays& r : ranges) {
+        const double nearM = kTightFraction * std::sqrt(2.0 * el.areaM2[r.element]);
+        std::size_t nearer = 0;
+        for (std::size_t k = r.begin; k < r.end; ++k)
+            nearer += scratch.elementHits[k].kind != ElementHit::Kind::Sky && scratch.elementHits[k].distanceM < nearM ? 1 : 0;
+        if (!(double(nearer) > kTightCover * double(r.end - r.begin))) continue;
+        std::vector<glm::dvec3> inset;
+        forEachSubTriangleCentroid(kTightSamplesPerSide, [&](double wa, double wb) {
+            inset.push_back(rowRays_->lift(pointOnElement(el, r.element, wa, wb), glm::dvec3(el.normal[r.element])));
+        });
+        for (std::size_t k = r.begin; k < r.end; ++k) scratch.rayOrigins[k] = inset[(k - r.begin) % inset.size()];
+        rowRays_->trace(std::span<const glm::dvec3>(scratch.rayOrigins).subspan(r.begin, r.end - r.begin),
+                        std::span<const glm::dvec3>(scratch.rayDirections).subspan(r.begin, r.end - r.begin),
+                        std::span<ElementHit>(scratch.elementHits).subspan(r.begin, r.end - r.begin));
     }
-    // Each ray is 1/N of the cosine-weighted hemisphere: F(point → element) = its rays / N, summing exactly with the
-    // sky and back-face shares to 1.
-    const double share = 1.0 / (double(strata) * double(strata));
-    std::sort(scratch.rayHits.begin(), scratch.rayHits.end());
-    for (std::size_t i = 0; i < scratch.rayHits.size();) {
-        std::size_t j = i;
-        while (j < scratch.rayHits.size() && scratch.rayHits[j] == scratch.rayHits[i]) ++j;
-        list.elements.push_back(scratch.rayHits[i]);
-        list.formFactors.push_back(double(j - i) * share);
-        i = j;
+    // Each ray is its element's share over its ray count: the row's form factors, sky and back-face shares sum to 1.
+    double sky = 0.0, back = 0.0;
+    for (std::size_t k = 0; k < scratch.elementHits.size(); ++k) {
+        const ElementHit& hit = scratch.elementHits[k];
+        if (hit.kind == ElementHit::Kind::Sky) sky += scratch.rayWeights[k];
+        else if (hit.kind == ElementHit::Kind::Back) back += scratch.rayWeights[k];
+        else scratch.add(hit.element, scratch.rayWeights[k]);
     }
-    list.skyFraction = double(sky) * share;
-    list.backfaceFraction = double(back) * share;
+    scratch.finish(1.0, row);
+    row.skyFraction = sky;
+    row.backfaceFraction = back;
+    row.hemicubes = 1;
+    return 1;
 }
 
 bool ProgressiveShooter::facesTightGap(const MergeScratch& scratch, double sizeM) const {
     const double nearM = kTightFraction * sizeM;
     if (!(scratch.list.minDepthM < nearM)) return false;
-    if (!rowRays_) return pool_.local().formFactorNearerThan(nearM) > kTightCover;
-    const auto nearer = std::count_if(scratch.rayDistances.begin(), scratch.rayDistances.end(),
-                                      [&](float d) { return double(d) < nearM; });
-    return double(nearer) / (double(rowStrata_) * double(rowStrata_)) > kTightCover;
+    return pool_.local().formFactorNearerThan(nearM) > kTightCover;
 }
 
 void ProgressiveShooter::applyShot(const Shot& shot) {
@@ -590,7 +642,11 @@ void ProgressiveShooter::shoot(const std::vector<std::uint32_t>& patches, std::v
             if (!(channelSum(solution_.unshotRadiosity[p]) > 0.0)) continue;
             shots[picked].patch = p;
             shots[picked].deltaRadiosity = solution_.unshotRadiosity[p];
-            shots[picked].seed = ++shotSeed;
+            ++shotSeed;
+            // Rays: seeded by the patch and how often it has shot, not by the shot's place in the run, so a scene
+            // whose ties among unshot powers round the other way (scaled, moved) still traces the same rays.
+            shots[picked].seed = rowRays_ ? splitMix64(splitMix64(settings_.seed ^ (std::uint64_t(p) << 20)) + shotsOfPatch_[p]++)
+                                          : shotSeed;
             // Light that lies unevenly over the patch goes from where it landed (the hot spot stays where it is).
             shots[picked].uneven = unevenLight(p);
             shots[picked].picks.clear();

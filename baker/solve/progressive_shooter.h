@@ -42,7 +42,7 @@ struct ShootingLedger {
 class ProgressiveShooter {
 public:
     // Rows are sampled by `pool`'s item-buffer hemicubes, or by rays into `rowRays` (built on `mesh`) when given
-    // (see rowsByRays). Both must outlive the shooter.
+    // (SolverSettings::rowSampling). Both must outlive the shooter.
     ProgressiveShooter(const PatchMesh& mesh, RadiositySolution& solution, HemicubePool& pool,
                        const SolverSettings& settings, const ElementRayScene* rowRays = nullptr);
     ~ProgressiveShooter();
@@ -99,6 +99,8 @@ private:
     // an even spread over its area (total-variation distance between the two distributions over its elements).
     bool unevenLight(std::uint32_t patch) const;
     double unshotW(std::uint32_t patch) const;  // Σ unshotW_ over the patch's elements
+    // Up to kMaxSamplesPerPatch of `patch`'s elements spread over it, weighted by area (weights sum to 1).
+    std::vector<std::pair<std::uint32_t, double>> areaPicks(std::uint32_t patch) const;
     // Up to kMaxSamplesPerPatch elements picked by systematic sampling of `patch`'s unshot light, each with the
     // share it shoots from its centroid (weights sum to 1).
     std::vector<std::pair<std::uint32_t, double>> lightPicks(std::uint32_t patch) const;
@@ -110,9 +112,17 @@ private:
     // One element's row: a hemicube at its centroid rotated by `rotation`, or, facing a tight gap, the mean of
     // kTightSamplesPerSide² hemicubes over it. Uses this thread's renderer and scratch; thread-safe across threads.
     void renderElementRow(std::uint32_t element, std::uint64_t rotation, FormFactorRow& row) const;
-    // One row sample at `frame` into scratch.list: an item-buffer hemicube of this thread's renderer, or rowRays_'s
-    // stratified cosine rays (each 1/N of the hemisphere). Thread-safe across threads.
+    // One row sample at `frame` into scratch.list: an item-buffer hemicube of this thread's renderer. Thread-safe
+    // across threads.
     void sampleRow(const HemicubeFrame& frame, MergeScratch& scratch) const;
+    // Rows by rays: the row of light leaving `picks` (element, weight; weights normalised here) into `row`, in one
+    // pass: each pick traces s² ≥ weight·N of the row's N rays (rowRayCount_), stratified cosine directions from its
+    // centroid (or, facing a tight gap, its kTightSamplesPerSide² sub-triangle centroids), each ray weight/s². The
+    // row a hemicube shooter merges from the picks' own rows, with N rays in all instead of N per pick, and nothing
+    // cached per element. Seeded by `seed` alone. Returns 1 (rows traced), 0 if the weights are all zero.
+    // Thread-safe across threads.
+    std::uint32_t tracePickedRow(const std::vector<std::pair<std::uint32_t, double>>& picks, std::uint64_t seed,
+                               FormFactorRow& row) const;
     // Whether the last sampleRow into `scratch`, from an element or patch of this size, faced a tight gap.
     bool facesTightGap(const MergeScratch& scratch, double sizeM) const;
     // The cached row that predicts `patch`'s next shot: its row, or, its light lying unevenly, the row of its last
@@ -139,7 +149,7 @@ private:
     RadiositySolution& solution_;
     HemicubePool& pool_;
     const ElementRayScene* rowRays_ = nullptr;  // rows by rays when set
-    int rowStrata_ = 0;                         // rows by rays: strata² rays per row
+    double rowRayCount_ = 0.0;                  // rows by rays: N, the rays a row traces (a little more, rounded up)
     SolverSettings settings_;
     UnshotQueue queue_;
     ShootingLedger ledger_;
@@ -147,6 +157,7 @@ private:
     double exitanceW_ = 0.0;  // kept up to date by every injection and shot
     LocalBound finalBound_;
     std::vector<bool> shotOnce_;  // per patch: has shot (its row may not be cached)
+    std::vector<std::uint32_t> shotsOfPatch_;  // per patch: shots so far (rows by rays are seeded by it)
     // Per patch: the last shot (ledger_.shots + 1) whose receivers updated its queue entry, so a shot updates each
     // receiving patch once, not once per element (in a furnace every shot reaches thousands of elements).
     std::vector<std::uint64_t> queuedAtShot_;

@@ -292,7 +292,7 @@ SolveReport solveRadiosity(const Scene& scene, const PatchMesh& mesh, const Solv
                            const EmbreeScene& rays, RadiositySolution& solution, const SolveProgress& progress,
                            const ElementRayScene* rowRays) {
     std::unique_ptr<ElementRayScene> ownRowRays;
-    const bool byRays = rowsByRays(settings.solver, mesh.elements.size());
+    const bool byRays = settings.solver.rowSampling == RowSampling::Rays;
     if (byRays && !rowRays) {
         ownRowRays = std::make_unique<ElementRayScene>(mesh);
         rowRays = ownRowRays.get();

@@ -20,7 +20,7 @@ struct SolveReport {
     std::string stopReason;        // converged | max-shots | max-time | sweeps
     std::uint64_t shots = 0;
     std::uint64_t hemicubes = 0;   // shooting hemicubes (or ray-sampled rows) + gathering hemicubes (rendered)
-    bool rowsByRays = false;       // shooting rows were sampled by rays (rowsByRays)
+    bool rowsByRays = false;       // shooting rows were sampled by rays (SolverSettings::rowSampling)
     std::uint64_t cachedShots = 0; // shots that reused a cached form-factor row (no hemicube rendered)
     std::uint64_t unevenShots = 0; // shots from elements picked by the patch's uneven light
     std::uint64_t elementRows = 0; // element rows rendered (near patches' rows, uneven shots): each once while cached
@@ -54,7 +54,7 @@ struct SolveReport {
 using SolveProgress = std::function<void(const std::string& stage, const ConvergenceRecord&)>;
 
 // Solves `mesh` (subdivided from `scene`, with `pool` and `rays` built on them) into `solution`. Shooting rows are
-// sampled by rays into `rowRays` (built on `mesh`) when rowsByRays(settings.solver, elements); given null, the solve
+// sampled by rays into `rowRays` (built on `mesh`) when settings.solver.rowSampling is Rays; given null, the solve
 // builds its own. Uses every core; throws std::invalid_argument on bad settings.
 SolveReport solveRadiosity(const Scene& scene, const PatchMesh& mesh, const SolveSettings& settings, HemicubePool& pool,
                            const EmbreeScene& rays, RadiositySolution& solution, const SolveProgress& progress = {},

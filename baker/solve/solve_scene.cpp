@@ -42,7 +42,7 @@ std::unique_ptr<SolvedScene> solveScene(const Scene& scene, const SolveSettings&
         solved.mesh = subdivideApart(scene, rays, settings.subdivision, request, settings.sides, &solved.sides);
         solved.exposedArea = applyExposedAreas(scene, rays, solved.mesh, settings.exposure);
         solved.pool = std::make_unique<HemicubePool>(solved.mesh, settings.solver.hemicubeResolution);
-        if (rowsByRays(settings.solver, solved.mesh.elements.size()))
+        if (settings.solver.rowSampling == RowSampling::Rays)
             solved.elementRays = std::make_unique<ElementRayScene>(solved.mesh);
         solved.report = solveRadiosity(scene, solved.mesh, settings, *solved.pool, rays, solved.solution, progress,
                                        solved.elementRays.get());

@@ -24,7 +24,6 @@ const char* rowSamplingName(RowSampling sampling) {
     switch (sampling) {
         case RowSampling::Hemicube: return "hemicube";
         case RowSampling::Rays: return "rays";
-        case RowSampling::Auto: return "auto";
     }
     return "?";
 }
@@ -32,13 +31,7 @@ const char* rowSamplingName(RowSampling sampling) {
 RowSampling parseRowSampling(const std::string& name) {
     if (name == "rays") return RowSampling::Rays;
     if (name == "hemicube") return RowSampling::Hemicube;
-    if (name == "auto") return RowSampling::Auto;
-    throw std::invalid_argument("unknown row sampling '" + name + "' (hemicube, rays or auto)");
-}
-
-bool rowsByRays(const SolverSettings& settings, std::size_t elements) {
-    return settings.rowSampling == RowSampling::Rays ||
-           (settings.rowSampling == RowSampling::Auto && elements >= kRowRaysFromElements);
+    throw std::invalid_argument("unknown row sampling '" + name + "' (hemicube or rays)");
 }
 
 }  // namespace hemibake

@@ -21,23 +21,23 @@ SolverKind parseSolverKind(const std::string& name);  // throws std::invalid_arg
 
 // How a shooting row (the form factors from a point to every element it sees) is sampled.
 enum class RowSampling {
-    Hemicube,  // an item-buffer hemicube through OSMesa: exact delta form factors per pixel
-    Rays,      // stratified cosine rays through Embree into the elements, each 1/N of the hemisphere
-    Auto,      // rays from kRowRaysFromElements elements up, else hemicubes (every preset)
+    Hemicube,  // an item-buffer hemicube through OSMesa per point: exact delta form factors per pixel
+    Rays,      // stratified cosine rays through Embree into the elements, R² a row split over its points (every preset)
 };
 const char* rowSamplingName(RowSampling sampling);
 RowSampling parseRowSampling(const std::string& name);  // throws std::invalid_argument
 
-// A culled hemicube costs what it draws, which grows with the level; a ray, with the log of it. Measured at medium
-// (docs/performance.md, "The final gather by rays"): at 44k elements hemicube rows solved in 86 s against 118 s by
-// rays, at 95k rays took 149 s against 181 s, at 960k rays shot 2.3× as many rows in the same 20 minutes.
-constexpr std::size_t kRowRaysFromElements = 64 * 1024;
-
 struct SolverSettings {
     SolverKind kind = SolverKind::Hybrid;
     int hemicubeResolution = 128;       // R: front face R×R pixels, four R×R/2 side faces (presets 32–256)
-    RowSampling rowSampling = RowSampling::Auto;
-    int rowRays = 0;                    // rays per row with RowSampling::Rays, a square; 0 = 3R² (the hemicube's pixels)
+    // Rays on every preset: a culled hemicube costs what it draws, which grows with the level, and a shot from 16
+    // points costs 16 of them; R² rays cost the log of the level and the same for 1 or 16 points. Measured at medium
+    // (docs/performance.md, session 24): solve 84 → 23 s on the clean 10k level, 181 → 45 s on the overlapping one,
+    // capped at 1,200 s → converged in 565 s at 100k, the Cornell box 3.5 → 1.3 s; per object as good or better.
+    RowSampling rowSampling = RowSampling::Rays;
+    // Rays per row with RowSampling::Rays, split over the shot's picks; 0 = R² (as many as a texel's final gather).
+    // 3R² (the hemicube's pixel count) took the 100k level's solve from 565 to 1,191 s for the same error per object.
+    int rowRays = 0;
     // Stop when, at every element, the irradiance still to arrive (the unshot light's next bounce, with the
     // bounces after it) is ≤ epsilon × what it has (presets 1e-2–1e-4); the bulk is shot first by power, down to
     // epsilon × injected power.
@@ -62,8 +62,7 @@ struct SolverSettings {
     std::uint64_t seed = 1;             // hemicube rotations and sampling
 };
 
-// Whether `settings` sample the rows of a mesh of `elements` elements by rays (RowSampling::Auto decides by size).
-bool rowsByRays(const SolverSettings& settings, std::size_t elements);
+
 
 // Model only what the scene requires: after a first solve, elements whose radiosity differs from an edge
 // neighbour's by more than `threshold` (relative) are bisected down to elementSize / 2^levels, and the scene is

@@ -189,6 +189,7 @@ struct PanelRoomOptions {
     bool texelDirect = true;    // the final gather sees direct light per texel (the default), else element averages
     int gapPasses = 0;          // re-gathers of the gap's texels (experimental, off by default)
     double gapCutFraction = SubdivisionSettings{}.gapCutFraction;
+    RowSampling rows = SolverSettings{}.rowSampling;  // how the shooting rows are sampled
 };
 
 PanelRoom bakePanelRoom(const PanelRoomOptions& o) {
@@ -210,6 +211,7 @@ PanelRoom bakePanelRoom(const PanelRoomOptions& o) {
     settings.solve.subdivision.gapCutFraction = o.gapCutFraction;
     settings.solve.solver.unevenShotSpread = o.unevenShotSpread;
     settings.solve.directSteps.levels = o.directStepLevels;
+    settings.solve.solver.rowSampling = o.rows;
     settings.lightmap.texelsPerUnit = 8.0;
     settings.lightmap.gatherTexelDirect = o.texelDirect;
     settings.lightmap.gapPasses = o.gapPasses;
@@ -297,6 +299,22 @@ TEST(HangingPanel, GapCutsKeepTheTrappedLightAtLevelSizes) {
     EXPECT_GT(uncut.floorBaked / uncut.floorTraced, 1.05);
 }
 
+// The same with rows traced by rays (what levels from 65,536 elements use): each element of a shot still shoots
+// from its centroid, or from its 3 × 3 inset points in a tight gap, as a hemicube row. Measured: panel top +2.9 %,
+// ceiling over it +0.8 %, table top −2.0 %, floor −1.6 %. Rays from uniform points over each element (the exact
+// area integral of a row) lost the gap's light into the room: −6.1 %, −4.7 %, +0.8 %, +2.2 %.
+TEST(HangingPanel, RayRowsKeepTheTrappedLightAtLevelSizes) {
+    PanelRoomOptions o;
+    o.patchSizeM = 3.5;
+    o.elementSizeM = 1.75;
+    o.rows = RowSampling::Rays;
+    const PanelRoom r = bakePanelRoom(o);
+    EXPECT_NEAR(r.panelTopBaked / r.panelTopTraced, 1.0, 0.05);
+    EXPECT_NEAR(r.gapBaked / r.gapTraced, 1.0, 0.05);
+    EXPECT_NEAR(r.tableBaked / r.tableTraced, 1.0, 0.03);
+    EXPECT_NEAR(r.floorBaked / r.floorTraced, 1.0, 0.03);
+}
+
 // The panel's top looks at the ceiling 5 cm above it. Without gap cuts (elements stay 1.6 m over the gap) the final
 // gather reads the ceiling's direct light per texel, so the top sees the hot spot its own light makes there; through
 // the elements' averages it is spread over 1.6 m. Measured: −27 % per texel, −44 % through the averages.
@@ -329,3 +347,4 @@ TEST(HangingPanel, ShotFromThePatchCentreTheRoomIsTooBright) {
     EXPECT_GT(r.tableBaked / r.tableTraced, 1.1);
     EXPECT_GT(r.floorBaked / r.floorTraced, 1.1);
 }
+

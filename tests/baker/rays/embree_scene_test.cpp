@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <span>
 #include <limits>
 #include <thread>
 #include <vector>
@@ -147,4 +149,30 @@ TEST(EmbreeScene, ConcurrentQueriesAgreeWithSerialOnes) {
     for (auto& th : threads) th.join();
     EXPECT_EQ(serial, parallel);
     EXPECT_GT(std::count_if(serial.begin(), serial.end(), [](int v) { return v >= 0; }), 1000);
+}
+
+// countOccluded traces packets of 16: ray by ray it must answer what occludedRay does, for any count (not a multiple
+// of 16 included), both ray-end conventions and a finite tMax, near the origin and 1e5 m from it.
+TEST(EmbreeScene, PacketOcclusionCountsWhatSingleRaysSee) {
+    for (const glm::dvec3 offset : {glm::dvec3(0.0), glm::dvec3(1e5, -1e5, 1e5)}) {
+        const Scene scene = testScene(offset);
+        const EmbreeScene rays(scene);
+        std::vector<glm::dvec3> dirs;
+        for (int i = 0; i < 1000; ++i) {  // a spread of unit directions over the sphere (Fibonacci)
+            const double z = 1.0 - (i + 0.5) / 500.0, r = std::sqrt(std::max(0.0, 1.0 - z * z)), phi = i * 2.399963229728653;
+            dirs.emplace_back(r * std::cos(phi), r * std::sin(phi), z);
+        }
+        const glm::dvec3 origins[] = {offset + glm::dvec3(0.5, 0.5, 1.0), rays.offsetFromSurface(offset + glm::dvec3(0.5, 0.5, 0.0), {0, 0, 1}),
+                                      offset + glm::dvec3(4.0, 1.0, -0.5)};
+        for (const glm::dvec3& o : origins)
+            for (const auto ends : {EmbreeScene::RayEnds::OnSurface, EmbreeScene::RayEnds::Lifted})
+                for (const double tMax : {kInf, 2.5})
+                    for (const std::size_t count : {std::size_t(1000), std::size_t(37), std::size_t(0)}) {
+                        const std::span<const glm::dvec3> some(dirs.data(), count);
+                        std::size_t single = 0;
+                        for (const glm::dvec3& d : some) single += rays.occludedRay(o, d, tMax, ends) ? 1 : 0;
+                        EXPECT_EQ(rays.countOccluded(o, some, tMax, ends), single) << "count " << count << " tMax " << tMax;
+                        if (count == 1000 && tMax == kInf) EXPECT_GT(single, 50u);  // each origin sees occluders (77 at least)
+                    }
+    }
 }
