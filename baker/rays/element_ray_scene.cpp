@@ -198,20 +198,8 @@ void ElementRayScene::tracePackets(const OriginOf& originOf, std::span<const glm
         for (std::size_t k = 0; k < kPacket; ++k) {
             valid[k] = k < count ? -1 : 0;
             const std::size_t ray = first + std::min(k, count - 1);
-            const glm::dvec3& d = dirs[ray];
-            const glm::vec3 o(originOf(ray) - embree_->origin);
-            packet.ray.org_x[k] = o.x;
-            packet.ray.org_y[k] = o.y;
-            packet.ray.org_z[k] = o.z;
-            packet.ray.dir_x[k] = float(d.x);
-            packet.ray.dir_y[k] = float(d.y);
-            packet.ray.dir_z[k] = float(d.z);
-            packet.ray.tnear[k] = 0.0f;
-            packet.ray.tfar[k] = std::numeric_limits<float>::infinity();
-            packet.ray.time[k] = 0.0f;
-            packet.ray.mask[k] = std::numeric_limits<unsigned>::max();
-            packet.ray.id[k] = unsigned(k);
-            packet.ray.flags[k] = 0;
+            setPacketRay(packet.ray, k, glm::vec3(originOf(ray) - embree_->origin), dirs[ray], 0.0f,
+                         std::numeric_limits<float>::infinity());
             packet.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
             packet.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
         }

@@ -149,19 +149,7 @@ std::size_t EmbreeScene::countOccluded(const glm::dvec3& origin, std::span<const
         alignas(64) int valid[kPacket];
         for (std::size_t k = 0; k < kPacket; ++k) {
             valid[k] = k < count ? -1 : 0;
-            const glm::dvec3& d = unitDirs[first + std::min(k, count - 1)];
-            packet.org_x[k] = o.x;
-            packet.org_y[k] = o.y;
-            packet.org_z[k] = o.z;
-            packet.dir_x[k] = float(d.x);
-            packet.dir_y[k] = float(d.y);
-            packet.dir_z[k] = float(d.z);
-            packet.tnear[k] = float(tMin);
-            packet.tfar[k] = float(tMaxM);
-            packet.time[k] = 0.0f;
-            packet.mask[k] = std::numeric_limits<unsigned>::max();
-            packet.id[k] = unsigned(k);
-            packet.flags[k] = 0;
+            setPacketRay(packet, k, o, unitDirs[first + std::min(k, count - 1)], float(tMin), float(tMaxM));
         }
         RTCIntersectContext context;
         rtcInitIntersectContext(&context);

@@ -22,6 +22,7 @@
 // Thread safety: every const query may run concurrently (Embree's rtcIntersect1/rtcOccluded1/rtcOccluded16 are).
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <span>
@@ -46,6 +47,23 @@ struct Hit {
     glm::dvec3 geometricNormal{0.0};  // world space, unit, counter-clockwise front (computed in double)
     bool frontFacing = false;     // the ray arrived on the side geometricNormal points to
 };
+
+// Ray k of a packet of 16: origin (float, relative to the scene's origin), unit direction, [tnear, tfar], all masks.
+inline void setPacketRay(RTCRay16& packet, std::size_t k, const glm::vec3& origin, const glm::dvec3& unitDir, float tnear,
+                         float tfar) {
+    packet.org_x[k] = origin.x;
+    packet.org_y[k] = origin.y;
+    packet.org_z[k] = origin.z;
+    packet.dir_x[k] = float(unitDir.x);
+    packet.dir_y[k] = float(unitDir.y);
+    packet.dir_z[k] = float(unitDir.z);
+    packet.tnear[k] = tnear;
+    packet.tfar[k] = tfar;
+    packet.time[k] = 0.0f;
+    packet.mask[k] = std::numeric_limits<unsigned>::max();
+    packet.id[k] = unsigned(k);
+    packet.flags[k] = 0;
+}
 
 class EmbreeScene {
 public:

@@ -173,28 +173,13 @@ void ProgressiveShooter::injectIrradiance(const std::vector<glm::dvec3>& irradia
 void ProgressiveShooter::renderShot(std::uint32_t patch, Shot& shot) const {
     shot.hemicubesRendered = 0;
     shot.elementRowsRendered = 0;
-    if (rowRays_) {
-        // By rays a row is one pass of N rays from its picks, whatever their number: the uneven shot's light picks,
-        // else up to 16 elements spread over the patch by area (what a hemicube shooter merges only when something
-        // is near, as 16 hemicubes). No element rows to cache or merge.
-        if (shot.uneven) {
-            shot.hemicubesRendered = tracePickedRow(shot.picks, shot.seed, shot.own);
-            shot.row = cache_->replace(unevenSlot(patch), shot.own) ? cache_->find(unevenSlot(patch)) : &shot.own;
-            return;
-        }
-        if (const FormFactorRow* cached = cache_->find(patch)) {
-            shot.row = cached;
-            cache_->countHit();
-            return;
-        }
-        shot.hemicubesRendered = tracePickedRow(areaPicks(patch), shot.seed, shot.own);
-        shot.row = cache_->store(patch, shot.own) ? cache_->find(patch) : &shot.own;
-        return;
-    }
+    // By rays a row is one pass of N rays from its picks, whatever their number (tracePickedRow): the uneven shot's
+    // light picks, else up to 16 elements spread over the patch by area, where a hemicube shooter renders one
+    // hemicube per pick only when something is near. No element rows to cache or merge then.
     if (shot.uneven) {
         // Each picked element's row is cached on its own and weighted by the share of the light it holds now: the
         // picks change from shot to shot (the first shots' hot spot, later the room's even bounce), the rows do not.
-        shot.hemicubesRendered = mergeElementRows(shot.picks, shot);
+        shot.hemicubesRendered = rowRays_ ? tracePickedRow(shot.picks, shot.seed, shot.own) : mergeElementRows(shot.picks, shot);
         // Kept for the local bound, which predicts the next uneven shot by this one (merging every uneven patch's
         // rows for each bound would cost 16 rows per patch per round).
         shot.row = cache_->replace(unevenSlot(patch), shot.own) ? cache_->find(unevenSlot(patch)) : &shot.own;
@@ -205,7 +190,7 @@ void ProgressiveShooter::renderShot(std::uint32_t patch, Shot& shot) const {
         cache_->countHit();
         return;
     }
-    shot.hemicubesRendered = renderRow(patch, shot.seed, shot);
+    shot.hemicubesRendered = rowRays_ ? tracePickedRow(areaPicks(patch), shot.seed, shot.own) : renderRow(patch, shot.seed, shot);
     shot.row = cache_->store(patch, shot.own) ? cache_->find(patch) : &shot.own;
 }
 

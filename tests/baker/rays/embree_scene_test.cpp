@@ -172,7 +172,9 @@ TEST(EmbreeScene, PacketOcclusionCountsWhatSingleRaysSee) {
                         std::size_t single = 0;
                         for (const glm::dvec3& d : some) single += rays.occludedRay(o, d, tMax, ends) ? 1 : 0;
                         EXPECT_EQ(rays.countOccluded(o, some, tMax, ends), single) << "count " << count << " tMax " << tMax;
-                        if (count == 1000 && tMax == kInf) EXPECT_GT(single, 50u);  // each origin sees occluders (77 at least)
+                        if (count == 1000 && tMax == kInf) {
+                            EXPECT_GT(single, 50u);  // each origin sees occluders (77 at least)
+                        }
                     }
     }
 }
