@@ -51,6 +51,11 @@ struct ElementArrays {
     std::vector<std::uint8_t> backSide;      // 1 for the back copy of a double-sided surface
 
     std::size_t size() const { return triangles.size(); }
+    // Keeps the first n elements (vertices untouched). Not thread-safe.
+    void truncateElements(std::size_t n) {
+        triangles.resize(n), normal.resize(n), centroid.resize(n), areaM2.resize(n), reflectance.resize(n);
+        emittedRadiance.resize(n), patch.resize(n), instance.resize(n), sourceFace.resize(n), backSide.resize(n);
+    }
 };
 
 struct PatchArrays {

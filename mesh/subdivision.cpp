@@ -149,6 +149,9 @@ std::size_t conformBoundaries(std::vector<RefinedInstance>& parts, double tolM, 
             const double len2 = glm::dot(ab, ab);
             if (!(len2 > 0.0)) continue;
             const double tTol = tolM / std::sqrt(len2);
+            // The apex of the face along this edge may itself lie on the edge (a sliver thinner than the tolerance):
+            // splitting there would leave two faces of no area, so it is not a T-junction to mend.
+            const glm::dvec3 apex = toGlm(m.point(m.to_vertex_handle(m.next_halfedge_handle(m.opposite_halfedge_handle(h)))));
             std::vector<std::pair<double, glm::dvec3>> onEdge;
             const glm::dvec3 lo = glm::min(a, b) - tolM, hi = glm::max(a, b) + tolM;
             for (std::int64_t x = cellOf(lo.x); x <= cellOf(hi.x); ++x)
@@ -159,7 +162,7 @@ std::size_t conformBoundaries(std::vector<RefinedInstance>& parts, double tolM, 
                         for (const glm::dvec3& bv : it->second) {
                             const double t = glm::dot(bv - a, ab) / len2;
                             if (t <= tTol || t >= 1.0 - tTol) continue;
-                            if (glm::length(a + t * ab - bv) > tolM) continue;
+                            if (glm::length(a + t * ab - bv) > tolM || glm::length(bv - apex) <= tolM) continue;
                             onEdge.emplace_back(t, bv);
                         }
                     }
@@ -368,7 +371,12 @@ PatchMesh subdivide(const Scene& scene, const SubdivisionSettings& settings, con
                     areaLe += area * glm::dvec3(material.emittedRadiance);
                 }
                 const std::uint32_t count = std::uint32_t(el.size()) - first;
-                if (count == 0 || !(patchArea > 0.0)) continue;  // cannot happen after degenerate removal
+                if (count == 0 || !(patchArea > 0.0)) {
+                    // Not expected (the loader drops faces without area, conformBoundaries keeps slivers whole), but
+                    // elements naming a patch that is never listed would break every consumer: drop them too.
+                    el.truncateElements(first);
+                    continue;
+                }
                 const double nLen = glm::length(areaNormal);
                 pa.firstElement.push_back(first);
                 pa.elementCount.push_back(count);

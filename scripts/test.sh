@@ -48,8 +48,8 @@ fuzz() {  # name seconds [libFuzzer arguments...]
 # Any bytes as a glTF file.
 fuzz fuzz_gltf_loader "${HEMIBAKE_FUZZ_SECONDS:-60}" tests/fuzz/corpus -max_len=65536
 # Small random meshes through subdivision, unwrapping and texels; inputs of any length from the start (a mesh
-# needs a few hundred bytes), not grown slowly from a few.
-fuzz fuzz_mesh_unwrap "${HEMIBAKE_FUZZ_UNWRAP_SECONDS:-30}" -max_len=1024 -len_control=0
+# needs a few hundred bytes), not grown slowly from a few; tests/fuzz/corpus_unwrap keeps past findings.
+fuzz fuzz_mesh_unwrap "${HEMIBAKE_FUZZ_UNWRAP_SECONDS:-30}" tests/fuzz/corpus_unwrap -max_len=1024 -len_control=0
 
 echo "== release suites (CTest)"
 ctest --test-dir build --output-on-failure -j"$jobs"

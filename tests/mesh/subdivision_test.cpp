@@ -155,3 +155,23 @@ TEST(Subdivision, MoreElementsThanAnIndexHoldsIsAnError) {
     s.patchSizeM = s.elementSizeM = 1000.0;  // at least 23,000 elements: fine
     EXPECT_GE(subdivide(scene, s).elements.size(), 23'000u);
 }
+
+// A sliver whose apex lies within the boundary tolerance (1e-7 of the scene's diagonal) of its own base edge, as the
+// mesh fuzzer found (tests/fuzz/corpus_unwrap): mending T-junctions used to split the base at the apex, leaving two
+// faces of no area, a patch of no area that was skipped and elements naming that missing patch.
+TEST(Subdivision, SliverWithItsApexOnItsOwnBoundaryEdgeKeepsItsArea) {
+    SceneBuilder b("sliver");
+    const int m = b.addMaterial(glm::vec3(0.5f));
+    b.addQuad({0, 0, 0}, {0, 0, 10}, {10, 0, 10}, {10, 0, 0}, m, "floor");  // diagonal ≈ 14 m: tolerance 1.4 µm
+    b.addTriangles({{0, 1, 0}, {1, 1, 0}, {0.5, 1, 1e-7}}, {{0, 1, 2}}, m, "sliver 0.1 µm high");
+    const Scene scene = b.build();
+    ASSERT_EQ(scene.triangleCount(), 3u);
+    const PatchMesh pm = subdivide(scene, {20.0, 20.0, 0.0});
+    double sliverArea = 0.0;
+    for (std::size_t e = 0; e < pm.elements.size(); ++e) {
+        ASSERT_LT(pm.elements.patch[e], pm.patches.size());
+        if (pm.elements.instance[e] == 1) sliverArea += pm.elements.areaM2[e];
+    }
+    EXPECT_NEAR(sliverArea, 0.5 * 1e-7, 1e-3 * 0.5 * 1e-7);
+    for (std::size_t p = 0; p < pm.patches.size(); ++p) EXPECT_GT(pm.patches.areaM2[p], 0.0);
+}
