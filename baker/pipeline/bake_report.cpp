@@ -27,6 +27,7 @@ nlohmann::json convergenceJson(const SolveReport& solve) {
             {"rowSampling", solve.rowsByRays ? "rays" : "hemicube"},
             {"cachedShots", solve.cachedShots},
             {"unevenShots", solve.unevenShots},
+            {"rowRaysTraced", solve.rowRaysTraced},
             {"elementRows", solve.elementRows},
             {"cachedElementRows", solve.cachedElementRows},
             {"localRounds", solve.localRounds},

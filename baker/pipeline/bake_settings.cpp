@@ -65,6 +65,7 @@ void visitKnobs(BakeSettings& s, Visitor&& v) {
     v("ambientCorrection", so.ambientCorrection);
     v("proximityFactor", so.proximityFactor);
     v("unevenShotSpread", so.unevenShotSpread);
+    v("unevenRaysPerLightShare", so.unevenRaysPerLightShare);
     v("formFactorCacheMiB", so.formFactorCacheMiB);
     v("threads", so.threads);
     v("seed", so.seed);

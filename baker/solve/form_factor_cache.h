@@ -27,10 +27,11 @@ public:
     double skyFraction = 0.0;       // weight of the shooter's hemisphere that saw nothing
     double backfaceFraction = 0.0;  // weight that saw the back of a surface
     std::uint32_t hemicubes = 0;    // how many hemicubes the row cost to render
+    double sampleShare = 0.0;       // rows by rays: the most one ray carries (1/rays); 0 for hemicube rows
 
     // Replaces the entries by ids[k] → formFactors[k]. Ids strictly ascending, form factors ≥ 0 (negative ones count
-    // as 0; zeros are not stored); throws std::invalid_argument otherwise. Keeps skyFraction, backfaceFraction and
-    // hemicubes.
+    // as 0; zeros are not stored); throws std::invalid_argument otherwise. Keeps skyFraction, backfaceFraction,
+    // hemicubes and sampleShare.
     void assign(std::span<const std::uint32_t> ids, std::span<const double> formFactors);
     // Empties the entries (keeps the buffer's capacity for the next assign).
     void clearEntries();

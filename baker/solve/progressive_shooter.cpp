@@ -35,6 +35,9 @@ constexpr std::uint32_t kMaxSamplesPerPatch = 16;
 constexpr double kTightFraction = 1.0 / 8.0;
 constexpr double kTightCover = 0.5;
 constexpr int kTightSamplesPerSide = 3;
+// The fewest rays an uneven shot traces, as a fraction of the row's (SolverSettings::unevenRaysPerLightShare): 256
+// at medium, 16 for each of 16 picks, still enough for the tight-gap test.
+constexpr double kLeastUnevenRayFraction = 1.0 / 16.0;
 
 
 // body(k) for every k < count, in parallel inside a shot (its picks): a shot with 16 picks (4 × 4 points each in a
@@ -59,6 +62,8 @@ struct ProgressiveShooter::Shot {
     std::uint32_t hemicubesRendered = 0;
     std::uint32_t elementRowsRendered = 0;
     std::uint64_t seed = 0;
+    double rayFraction = 1.0;  // rows by rays: the share of the row's rays this shot traces
+    std::uint64_t raysTraced = 0;
     // Unshot light lying unevenly over the patch: shot from the elements `picks` (element, share of the light),
     // each through its own row.
     bool uneven = false;
@@ -173,13 +178,19 @@ void ProgressiveShooter::injectIrradiance(const std::vector<glm::dvec3>& irradia
 void ProgressiveShooter::renderShot(std::uint32_t patch, Shot& shot) const {
     shot.hemicubesRendered = 0;
     shot.elementRowsRendered = 0;
+    shot.raysTraced = 0;
     // By rays a row is one pass of N rays from its picks, whatever their number (tracePickedRow): the uneven shot's
     // light picks, else up to 16 elements spread over the patch by area, where a hemicube shooter renders one
     // hemicube per pick only when something is near. No element rows to cache or merge then.
     if (shot.uneven) {
         // Each picked element's row is cached on its own and weighted by the share of the light it holds now: the
         // picks change from shot to shot (the first shots' hot spot, later the room's even bounce), the rows do not.
-        shot.hemicubesRendered = rowRays_ ? tracePickedRow(shot.picks, shot.seed, shot.own) : mergeElementRows(shot.picks, shot);
+        if (rowRays_) {
+            shot.raysTraced = tracePickedRow(shot.picks, shot.seed, rowRayCount_ * shot.rayFraction, shot.own);
+            shot.hemicubesRendered = shot.raysTraced > 0 ? 1 : 0;
+        } else {
+            shot.hemicubesRendered = mergeElementRows(shot.picks, shot);
+        }
         // Kept for the local bound, which predicts the next uneven shot by this one (merging every uneven patch's
         // rows for each bound would cost 16 rows per patch per round).
         shot.row = cache_->replace(unevenSlot(patch), shot.own) ? cache_->find(unevenSlot(patch)) : &shot.own;
@@ -190,7 +201,12 @@ void ProgressiveShooter::renderShot(std::uint32_t patch, Shot& shot) const {
         cache_->countHit();
         return;
     }
-    shot.hemicubesRendered = rowRays_ ? tracePickedRow(areaPicks(patch), shot.seed, shot.own) : renderRow(patch, shot.seed, shot);
+    if (rowRays_) {
+        shot.raysTraced = tracePickedRow(areaPicks(patch), shot.seed, rowRayCount_, shot.own);
+        shot.hemicubesRendered = shot.raysTraced > 0 ? 1 : 0;
+    } else {
+        shot.hemicubesRendered = renderRow(patch, shot.seed, shot);
+    }
     shot.row = cache_->store(patch, shot.own) ? cache_->find(patch) : &shot.own;
 }
 
@@ -298,6 +314,16 @@ double ProgressiveShooter::unshotW(std::uint32_t patch) const {
     return total;
 }
 
+double ProgressiveShooter::lightShareOfShot(std::uint32_t patch) const {
+    const PatchArrays& pa = mesh_.patches;
+    const ElementArrays& el = mesh_.elements;
+    double exitedW = 0.0;  // everything the patch has given off, this shot's light included
+    for (std::uint32_t e = pa.firstElement[patch], n = 0; n < pa.elementCount[patch]; ++n)
+        exitedW += channelSum(solution_.radiosity[e + n]) * el.areaM2[e + n];
+    const double shotW = channelSum(solution_.unshotRadiosity[patch]) * pa.areaM2[patch];
+    return exitedW > 0.0 ? std::min(shotW / exitedW, 1.0) : 1.0;
+}
+
 bool ProgressiveShooter::unevenLight(std::uint32_t patch) const {
     const PatchArrays& pa = mesh_.patches;
     const ElementArrays& el = mesh_.elements;
@@ -376,8 +402,8 @@ void ProgressiveShooter::sampleRow(const HemicubeFrame& frame, MergeScratch& scr
     pool_.local().renderFormFactors(frame, scratch.list);
 }
 
-std::uint32_t ProgressiveShooter::tracePickedRow(const std::vector<std::pair<std::uint32_t, double>>& picks, std::uint64_t seed,
-                                               FormFactorRow& row) const {
+std::uint64_t ProgressiveShooter::tracePickedRow(const std::vector<std::pair<std::uint32_t, double>>& picks, std::uint64_t seed,
+                                                 double rayCount, FormFactorRow& row) const {
     const ElementArrays& el = mesh_.elements;
     MergeScratch& scratch = scratch_->local();
     scratch.begin(el.size(), row);
@@ -401,7 +427,7 @@ std::uint32_t ProgressiveShooter::tracePickedRow(const std::vector<std::pair<std
         const double share = std::max(w, 0.0) / weights;
         if (!(share > 0.0)) continue;
         // s² ≥ share·N rays, so no ray carries more than 1/N of the row (the sliver test's one-ray share).
-        const int strata = std::max(1, int(std::ceil(std::sqrt(share * rowRayCount_) - 1e-9)));
+        const int strata = std::max(1, int(std::ceil(std::sqrt(share * rayCount) - 1e-9)));
         const double perRay = share / (double(strata) * double(strata));
         const glm::dvec3 normal(el.normal[e]);
         glm::dvec3 t, b;
@@ -418,6 +444,7 @@ std::uint32_t ProgressiveShooter::tracePickedRow(const std::vector<std::pair<std
     }
     scratch.elementHits.resize(scratch.rayDirections.size());
     rowRays_->trace(scratch.rayOrigins, scratch.rayDirections, scratch.elementHits);
+    std::uint64_t traced = scratch.rayDirections.size();
     // An element facing a tight gap (its centroid's rays mostly hit within kTightFraction of its size: a panel top
     // under the ceiling) shoots again from its kTightSamplesPerSide² sub-triangle centroids, as its hemicube row
     // would; trimmed elements keep the centroid (parts of their triangle lie under what covers them).
@@ -435,6 +462,7 @@ std::uint32_t ProgressiveShooter::tracePickedRow(const std::vector<std::pair<std
         rowRays_->trace(std::span<const glm::dvec3>(scratch.rayOrigins).subspan(r.begin, r.end - r.begin),
                         std::span<const glm::dvec3>(scratch.rayDirections).subspan(r.begin, r.end - r.begin),
                         std::span<ElementHit>(scratch.elementHits).subspan(r.begin, r.end - r.begin));
+        traced += r.end - r.begin;
     }
     // Each ray is its element's share over its ray count: the row's form factors, sky and back-face shares sum to 1.
     double sky = 0.0, back = 0.0;
@@ -448,7 +476,8 @@ std::uint32_t ProgressiveShooter::tracePickedRow(const std::vector<std::pair<std
     row.skyFraction = sky;
     row.backfaceFraction = back;
     row.hemicubes = 1;
-    return 1;
+    row.sampleShare = 1.0 / rayCount;
+    return traced;
 }
 
 bool ProgressiveShooter::facesTightGap(const MergeScratch& scratch, double sizeM) const {
@@ -474,6 +503,7 @@ void ProgressiveShooter::applyShot(const Shot& shot) {
     ledger_.cachedShots += shot.hemicubesRendered == 0 ? 1 : 0;
     ledger_.unevenShots += shot.uneven ? 1 : 0;
     ledger_.elementRows += shot.elementRowsRendered;
+    ledger_.rowRays += shot.raysTraced;
 }
 
 void ProgressiveShooter::applyRow(std::uint32_t patch, const FormFactorRow& row, const glm::dvec3& deltaRadiosity) {
@@ -485,7 +515,7 @@ void ProgressiveShooter::applyRow(std::uint32_t patch, const FormFactorRow& row,
     row.forEach([&](std::uint32_t j, double formFactor) {
         // Reciprocity: F_ji = F_ij·A_i/A_j, so the irradiance j gains is ΔB_i·F_ij·A_i/A_j.
         const double receivedFormFactor = formFactor * shooterArea / el.areaM2[j];
-        if (formFactor <= 2.0 * largestPixelFormFactor_)
+        if (formFactor <= 2.0 * std::max(largestPixelFormFactor_, row.sampleShare))
             singlePixelFormFactor_[j] = std::max(singlePixelFormFactor_[j], float(receivedFormFactor));
         const glm::dvec3 deltaIrradiance = delta * receivedFormFactor;
         const glm::dvec3 reflected = glm::dvec3(el.reflectance[j]) * deltaIrradiance;
@@ -635,7 +665,13 @@ void ProgressiveShooter::shoot(const std::vector<std::uint32_t>& patches, std::v
             // Light that lies unevenly over the patch goes from where it landed (the hot spot stays where it is).
             shots[picked].uneven = unevenLight(p);
             shots[picked].picks.clear();
-            if (shots[picked].uneven) shots[picked].picks = lightPicks(p);
+            shots[picked].rayFraction = 1.0;
+            if (shots[picked].uneven) {
+                shots[picked].picks = lightPicks(p);
+                if (rowRays_ && settings_.unevenRaysPerLightShare > 0.0)
+                    shots[picked].rayFraction = std::clamp(settings_.unevenRaysPerLightShare * lightShareOfShot(p),
+                                                           kLeastUnevenRayFraction, 1.0);
+            }
             for (std::uint32_t e = mesh_.patches.firstElement[p], n = 0; n < mesh_.patches.elementCount[p]; ++n) unshotW_[e + n] = 0.0;
             solution_.unshotRadiosity[p] = glm::dvec3(0.0);
             queue_.set(p, 0.0);

@@ -34,6 +34,7 @@ struct ShootingLedger {
     std::uint64_t cachedShots = 0;   // shots that reused their patch's cached form-factor row
     std::uint64_t unevenShots = 0;   // shots from elements picked by the patch's uneven light (unevenShotSpread)
     std::uint64_t elementRows = 0;   // element rows rendered (proximity and uneven shots): each once while it is kept
+    std::uint64_t rowRays = 0;       // rows by rays: rays traced (tight-gap re-traces included)
     std::uint64_t localRounds = 0;   // local-bound evaluations after the bulk (each picks the next patches to shoot)
     double localBoundSeconds = 0.0;  // spent evaluating them (serial; the rest of the shoot time renders and applies)
     std::size_t cacheBytes = 0;      // form-factor rows kept
@@ -98,6 +99,9 @@ private:
     // Whether `patch`'s unshot light lies unevenly over it: more than settings_.unevenShotSpread of it away from
     // an even spread over its area (total-variation distance between the two distributions over its elements).
     bool unevenLight(std::uint32_t patch) const;
+    // The share of everything `patch` has given off (its elements' radiosity × area) that its unshot light is: 1 on
+    // its first shot, small once it has shot most of what it will receive.
+    double lightShareOfShot(std::uint32_t patch) const;
     double unshotW(std::uint32_t patch) const;  // Σ unshotW_ over the patch's elements
     // Up to kMaxSamplesPerPatch of `patch`'s elements spread over it, weighted by area (weights sum to 1).
     std::vector<std::pair<std::uint32_t, double>> areaPicks(std::uint32_t patch) const;
@@ -116,13 +120,13 @@ private:
     // across threads.
     void sampleRow(const HemicubeFrame& frame, MergeScratch& scratch) const;
     // Rows by rays: the row of light leaving `picks` (element, weight; weights normalised here) into `row`, in one
-    // pass: each pick traces s² ≥ weight·N of the row's N rays (rowRayCount_), stratified cosine directions from its
+    // pass: each pick traces s² ≥ weight·N of the row's N = `rayCount` rays, stratified cosine directions from its
     // centroid (or, facing a tight gap, its kTightSamplesPerSide² sub-triangle centroids), each ray weight/s². The
     // row a hemicube shooter merges from the picks' own rows, with N rays in all instead of N per pick, and nothing
-    // cached per element. Seeded by `seed` alone. Returns 1 (rows traced), 0 if the weights are all zero.
+    // cached per element. Seeded by `seed` alone. Returns the rays traced, 0 if the weights are all zero.
     // Thread-safe across threads.
-    std::uint32_t tracePickedRow(const std::vector<std::pair<std::uint32_t, double>>& picks, std::uint64_t seed,
-                               FormFactorRow& row) const;
+    std::uint64_t tracePickedRow(const std::vector<std::pair<std::uint32_t, double>>& picks, std::uint64_t seed,
+                                 double rayCount, FormFactorRow& row) const;
     // Whether the last sampleRow into `scratch`, from an element or patch of this size, faced a tight gap.
     bool facesTightGap(const MergeScratch& scratch, double sizeM) const;
     // The cached row that predicts `patch`'s next shot: its row, or, its light lying unevenly, the row of its last

@@ -213,6 +213,7 @@ void shootToBound(const PatchMesh& mesh, const SolveSettings& settings, Hemicube
     report.hemicubes = ledger.hemicubes;
     report.cachedShots = ledger.cachedShots;
     report.unevenShots = ledger.unevenShots;
+    report.rowRaysTraced = ledger.rowRays;
     report.elementRows = ledger.elementRows;
     report.cachedElementRows = shooter.cachedElementRows();
     report.localRounds = ledger.localRounds;

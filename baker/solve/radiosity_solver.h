@@ -23,6 +23,7 @@ struct SolveReport {
     bool rowsByRays = false;       // shooting rows were sampled by rays (SolverSettings::rowSampling)
     std::uint64_t cachedShots = 0; // shots that reused a cached form-factor row (no hemicube rendered)
     std::uint64_t unevenShots = 0; // shots from elements picked by the patch's uneven light
+    std::uint64_t rowRaysTraced = 0;  // rows by rays: rays traced in all (tight-gap re-traces included)
     std::uint64_t elementRows = 0; // element rows rendered (near patches' rows, uneven shots): each once while cached
     std::size_t cachedElementRows = 0; // of those, held in the form-factor cache at the end
     std::uint64_t localRounds = 0; // local-bound evaluations that picked what to shoot after the bulk

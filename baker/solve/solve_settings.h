@@ -38,6 +38,11 @@ struct SolverSettings {
     // Rays per row with RowSampling::Rays, split over the shot's picks; 0 = R² (as many as a texel's final gather).
     // 3R² (the hemicube's pixel count) took the 100k level's solve from 565 to 1,191 s for the same error per object.
     int rowRays = 0;
+    // Rows by rays, uneven shots (always traced, never cached): a shot whose light is a share s of what its patch
+    // has given off so far (1 on its first shot, 1e-3 late in the local rounds) traces min(1, this × s) of the
+    // row's rays, at least 1/16. Its noise adds variance ∝ s²/rays, so rays ∝ s keeps all later shots' noise
+    // together at about 1/this of the first shot's, for a fraction of the rays. 0 = every uneven shot all rays.
+    double unevenRaysPerLightShare = 4.0;
     // Stop when, at every element, the irradiance still to arrive (the unshot light's next bounce, with the
     // bounces after it) is ≤ epsilon × what it has (presets 1e-2–1e-4); the bulk is shot first by power, down to
     // epsilon × injected power.

@@ -98,3 +98,35 @@ TEST(RayRows, OpenSceneBalancesAndAgreesWithThePathTracer) {
     }
     EXPECT_EQ(compared, 7);
 }
+
+// Uneven shots trace rays in proportion to their light's share of what their patch has given off
+// (SolverSettings::unevenRaysPerLightShare): late shots, carrying a little of it, trace a fraction of the row's rays.
+// Against every uneven shot tracing them all, the open scene's surfaces stay where they were (within the 2 % the
+// path tracer test above allows each), the ledger still balances to rounding, and fewer rays are traced.
+TEST(RayRows, UnevenShotsTraceRaysInProportionToTheirLight) {
+    SolveSettings s = shootByRays(0.25, 128);
+    s.solver.epsilon = 1e-4;
+    const auto scaled = solveTestScene(openSceneWithLamp().build(), s);
+    s.solver.unevenRaysPerLightShare = 0.0;
+    const auto all = solveTestScene(openSceneWithLamp().build(), s);
+    for (const auto* solved : {scaled.get(), all.get()}) {
+        const SolveReport& r = solved->report;
+        const glm::dvec3 in = r.emitterPowerW + r.directPowerW;
+        const glm::dvec3 out = r.absorbedPowerW + r.escapedPowerW + r.backfacePowerW + r.unshotPowerW;
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(out[c], in[c], 1e-9 * in[c]) << "channel " << c;
+        EXPECT_EQ(r.stopReason, "converged");
+        EXPECT_GT(r.unevenShots, 0u);
+    }
+    std::printf("rays traced: %llu scaled by light, %llu all (%.2f); uneven shots %llu / %llu\n",
+                static_cast<unsigned long long>(scaled->report.rowRaysTraced),
+                static_cast<unsigned long long>(all->report.rowRaysTraced),
+                double(scaled->report.rowRaysTraced) / double(all->report.rowRaysTraced),
+                static_cast<unsigned long long>(scaled->report.unevenShots),
+                static_cast<unsigned long long>(all->report.unevenShots));
+    EXPECT_LT(double(scaled->report.rowRaysTraced), 0.9 * double(all->report.rowRaysTraced));  // measured 0.76
+    for (std::size_t instance = 0; instance < scaled->scene.instances.size(); ++instance) {
+        const glm::dvec3 a = meanIrradianceOverPi(*scaled, int(instance)), b = meanIrradianceOverPi(*all, int(instance));
+        std::printf("instance %zu: scaled %.5f, all rays %.5f (%+.2f%%)\n", instance, a.x, b.x, b.x > 0.0 ? 100.0 * (a.x / b.x - 1.0) : 0.0);
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(a[c], b[c], 0.02 * b[c]) << "instance " << instance << " channel " << c;
+    }
+}
