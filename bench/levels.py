@@ -8,6 +8,8 @@ into docs/tradeoff.md (between `<!-- bench/levels.py -->` markers; the rest of t
     /usr/bin/python3 bench/levels.py --levels clean:10000     # one level
     /usr/bin/python3 bench/levels.py --levels clean:10000 --presets medium --spp 16 64 256
     /usr/bin/python3 bench/levels.py --levels clean:10000 --variant "medium, R 32=--preset medium --hemicube-res 32"
+    /usr/bin/python3 bench/levels.py --speed-only --levels overlapping:10000 overlapping:100000 overlapping:300000 \
+        --presets medium --texels-per-unit 4 --work build/levels-speed   # time and memory per texel only
 
 Levels come from examples/generate_level.py (seed 1): `clean:N` builds the layout whose parts meet without
 overlapping, `overlapping:N` the one whose walls stand in the slabs as artists build them. Every bake of a level
@@ -20,6 +22,9 @@ the path tracer's time to reach it is extrapolated along error ∝ 1/√spp and 
 two highest-spp rows), and marked so. Also reported: compare's plain mean relative error. Per object: per glTF node,
 the texel-weighted mean of the bake over the reference's, minus one (what a user sees as "this room is 3 % dark").
 Re-runs resume: finished rows are kept in WORK/levels.json (keyed by level, method and setting) and skipped.
+--speed-only bakes and nothing else (no layout, reference or path tracer): time, memory and texels per level, for
+sizes whose reference would take hours; it writes the speed table and levels_scaling.png (time and memory per texel
+against texels), and leaves docs/tradeoff.md alone.
 """
 import argparse
 import json
@@ -76,6 +81,10 @@ def sweep_level(a, results, kind, triangles):
     level = results.setdefault(name, {"level": name, "kind": kind, "targetTriangles": triangles,
                                       "texelsPerUnit": a.texels_per_unit, "rows": {}})
     save = lambda: json.dump(results, open(os.path.join(a.work, "levels.json"), "w"), indent=1)
+    if a.speed_only:
+        reference = None
+        bake_rows(a, level, name, gltf, density, reference, save)
+        return
 
     # The layout is the draft bake: its row is recorded like every other bake's (bake_row), so it is not baked twice.
     layout = os.path.join(base, "layout")
@@ -99,6 +108,14 @@ def sweep_level(a, results, kind, triangles):
             row.update(scores(a.binary, row["outDir"], reference))
             save()
 
+    bake_rows(a, level, name, gltf, density, reference, save)
+    path_tracer_rows(a, level, name, layout, reference, save)
+
+
+def bake_rows(a, level, name, gltf, density, reference, save):
+    """A row per preset and variant: time, memory, what was drawn and traced; scored against `reference` if given."""
+    base = os.path.dirname(gltf)
+    layout = os.path.join(base, "layout")
     bakes = [(preset, ["--preset", preset]) for preset in a.presets]
     for variant in a.variant:
         label, _, args = variant.partition("=")
@@ -123,13 +140,23 @@ def sweep_level(a, results, kind, triangles):
                "gatherDrawnFraction": draws.get("finalGather", {}).get("meanFractionOfScene"),
                "gatherRays": report.get("lightmap", {}).get("finalGatherRays", {}).get("traced"),
                "gatherRaysPerTexel": report.get("lightmap", {}).get("finalGatherRays", {}).get("perTexel"),
-               "timings": report.get("timings"), "outDir": out_dir, **scores(a.binary, out_dir, reference)}
+               "timings": report.get("timings"), "outDir": out_dir,
+               "texels": report.get("lightmap", {}).get("texels"),
+               "rowRaysTraced": report.get("convergence", {}).get("rowRaysTraced"),
+               **(scores(a.binary, out_dir, reference) if reference else {})}
         level["rows"][key] = row
+        if not level.get("texels"):
+            level["texels"] = row["texels"]
         save()
-        print(f"[{name}] bake {preset}: {wall:.0f} s, {mem:.0f} MiB, per texel {100 * row['errorAgainstTruth']:.2f} % RMS", flush=True)
+        error = f", per texel {100 * row['errorAgainstTruth']:.2f} % RMS" if row.get("errorAgainstTruth") else ""
+        print(f"[{name}] bake {preset}: {wall:.0f} s, {mem:.0f} MiB{error}", flush=True)
         if not a.keep and out_dir != layout:
             shutil.rmtree(out_dir, ignore_errors=True)
 
+
+def path_tracer_rows(a, level, name, layout, reference, save):
+    """A row per sample count: the path tracer on the layout's texels, scored against the reference."""
+    base = os.path.dirname(layout)
     for spp in a.spp:
         key = f"path tracer {spp}"
         if key in level["rows"]:
@@ -208,6 +235,31 @@ def plot(results, path):
     return True
 
 
+def plot_scaling(results, path, preset="medium"):
+    """Time and peak memory per texel of the preset's bake against the level's texels (log–log): flat lines are linear."""
+    plt = pyplot()
+    if plt is None:
+        return False
+    points = sorted((r.get("texels") or level.get("texels"), r["seconds"], r["peakMiB"], level["level"])
+                    for level in results.values() for r in level["rows"].values()
+                    if r["method"] == "bake" and r["setting"] == preset and (r.get("texels") or level.get("texels")))
+    if not points:
+        return False
+    fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4.2))
+    for ax, values, ylabel in ((left, [1e6 * t / n for n, t, _, _ in points], "wall time per texel, µs"),
+                               (right, [1024.0 * 1024.0 * m / n for n, _, m, _ in points], "peak memory per texel, bytes")):
+        ax.loglog([p[0] for p in points], values, "-s")
+        for (n, _, _, label), v in zip(points, values):
+            ax.annotate(label, (n, v), fontsize=7, textcoords="offset points", xytext=(3, 3))
+        ax.set_xlabel("lightmap texels")
+        ax.set_ylabel(ylabel)
+        ax.set_title(f"{preset} preset: per texel against texels (flat or falling = no worse than linear)", fontsize=9)
+        ax.grid(True, which="both", lw=0.3)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    return True
+
+
 def replace_section(path, body):
     text = open(path).read() if os.path.exists(path) else ""
     section = MARK_BEGIN + "\n" + body.rstrip() + "\n" + MARK_END
@@ -224,7 +276,7 @@ def pct(v, signed=False):
     return "—" if v is None else (f"{100 * v:+.2f} %" if signed else f"{100 * v:.2f} %")
 
 
-def write_docs(results, docs, png):
+def write_docs(results, docs, png, scaling_png=None, speed_only=False):
     command = "`/usr/bin/python3 bench/levels.py " + " ".join(sys.argv[1:]) + "`"
     perf = ["## Levels: time, memory and triangles drawn", "",
             f"Written by {command}. One process per row on this 2-core machine; peak memory from GNU time; "
@@ -232,6 +284,8 @@ def write_docs(results, docs, png):
             "included) over the level's triangles.", "",
             "| level | texels | preset | time (s) | peak MiB | µs / texel | KiB / texel | solve hemicubes | drawn (solve) | final-gather hemicubes | drawn (gather) | final-gather rays (per texel) |",
             "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    if scaling_png:
+        perf[4:4] = [f"![levels: time and memory per texel against texels]({scaling_png})", ""]
     trade = ["## Levels: error against time", "",
              f"Written by {command}. Per texel, the headline: RMS error against the noise-free answer, relative to "
              "each primitive's mean (compare's `relativeRmseAgainstTruth`: the reference's own noise, known from the "
@@ -247,6 +301,7 @@ def write_docs(results, docs, png):
         for key, r in sorted(level["rows"].items(), key=lambda kv: kv[1]["seconds"]):
             if r["method"] != "bake":
                 continue
+            texels = r.get("texels") or level.get("texels") or 0
             per_texel_us = 1e6 * r["seconds"] / texels if texels else float("nan")
             per_texel_kib = 1024.0 * r["peakMiB"] / texels if texels else float("nan")
             frac = lambda v: "—" if v is None else f"{100 * v:.1f} %"
@@ -255,6 +310,7 @@ def write_docs(results, docs, png):
                         f"{r.get('solveHemicubes')} | {frac(r.get('solveDrawnFraction'))} | {r.get('gatherHemicubes')} | "
                         f"{frac(r.get('gatherDrawnFraction'))} | "
                         f"{'—' if not r.get('gatherRays') else '{:.3g} ({})'.format(r['gatherRays'], r.get('gatherRaysPerTexel'))} |")
+        texels = level.get("texels") or 0
         ratio, t_pt, extrapolated = speedup(level)
         trade += [f"### {level['level']} at {level['texelsPerUnit']} texels/m", "",
                   f"{texels} texels; reference {level.get('referenceSpp')} spp ({level.get('referenceSeconds', 0):.0f} s).", "",
@@ -262,9 +318,9 @@ def write_docs(results, docs, png):
                   "|---|---|---|---|---|---|---|---|---|---|---|"]
         for key, r in sorted(level["rows"].items(), key=lambda kv: (kv[1]["method"], kv[1]["seconds"])):
             trade.append(f"| {r['method']} | {r['setting']} | {r['seconds']:.0f} | {r['peakMiB']:.0f} | "
-                         f"{pct(r.get('errorAgainstTruth'))} | {pct(r['meanRelativeError'])} | "
-                         f"{pct(r['meanSignedRelativeError'], True)} | "
-                         f"{pct(r['p95RelativeError'])} | {pct(r.get('objectMedianError'))} | "
+                         f"{pct(r.get('errorAgainstTruth'))} | {pct(r.get('meanRelativeError'))} | "
+                         f"{pct(r.get('meanSignedRelativeError'), True)} | "
+                         f"{pct(r.get('p95RelativeError'))} | {pct(r.get('objectMedianError'))} | "
                          f"{pct(r.get('objectWorstError'))} | {pct(r.get('objectMeanSignedError'), True)} |")
         noise = [r.get("referenceNoise") for r in level["rows"].values() if r.get("referenceNoise")]
         if noise:
@@ -279,7 +335,8 @@ def write_docs(results, docs, png):
                           f"**{ratio:.1f}×** the bake's time (issue 16 asks ≥ 10× on the clean ~10k level)."]
         trade.append("")
     replace_section(os.path.join(docs, "performance.md"), "\n".join(perf))
-    replace_section(os.path.join(docs, "tradeoff.md"), "\n".join(trade))
+    if not speed_only:
+        replace_section(os.path.join(docs, "tradeoff.md"), "\n".join(trade))
 
 
 def main():
@@ -296,6 +353,8 @@ def main():
     ap.add_argument("--reference-spp", type=int, default=4096)
     ap.add_argument("--texels-per-unit", type=float, default=16.0)
     ap.add_argument("--keep", action="store_true", help="keep the bake outputs (for inspection)")
+    ap.add_argument("--speed-only", action="store_true",
+                    help="bakes only (no reference, no path tracer): time, memory and texels; docs/tradeoff.md untouched")
     a = ap.parse_args()
     os.makedirs(a.work, exist_ok=True)
     store = os.path.join(a.work, "levels.json")
@@ -306,9 +365,10 @@ def main():
             sys.exit(f"--levels {spec}: expected clean:N or overlapping:N")
         sweep_level(a, results, kind, int(triangles))
     chosen = {k: v for k, v in results.items() if k in {s.replace(":", "-") for s in a.levels}}
-    png = "levels.png" if plot(chosen, os.path.join(a.docs, "levels.png")) else None
-    write_docs(chosen, a.docs, png)
-    print("wrote", os.path.join(a.docs, "performance.md"), "and", os.path.join(a.docs, "tradeoff.md"))
+    png = None if a.speed_only else ("levels.png" if plot(chosen, os.path.join(a.docs, "levels.png")) else None)
+    scaling = "levels_scaling.png" if plot_scaling(chosen, os.path.join(a.docs, "levels_scaling.png")) else None
+    write_docs(chosen, a.docs, png, scaling, a.speed_only)
+    print("wrote", os.path.join(a.docs, "performance.md") + ("" if a.speed_only else " and " + os.path.join(a.docs, "tradeoff.md")))
 
 
 if __name__ == "__main__":
