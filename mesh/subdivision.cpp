@@ -351,7 +351,7 @@ PatchMesh subdivide(const Scene& scene, const SubdivisionSettings& settings, con
                     const glm::dvec3 a = el.vertices[tri[0]], b = el.vertices[tri[1]], cc = el.vertices[tri[2]];
                     const glm::dvec3 cross = glm::cross(b - a, cc - a);
                     const double area = 0.5 * glm::length(cross);
-                    const glm::dvec3 n = area > 0.0 ? cross / (2.0 * area) : glm::dvec3(0.0);
+                    const glm::dvec3 n = area > 0.0 ? cross / (2.0 * area) : glm::dvec3(0.0);  // see below
                     const glm::dvec3 centroid = (a + b + cc) / 3.0;
                     const glm::vec3 rho = scene.averageReflectance(instance.material, uv0[0], uv0[1], uv0[2]);
                     el.triangles.push_back(tri);
@@ -378,11 +378,17 @@ PatchMesh subdivide(const Scene& scene, const SubdivisionSettings& settings, con
                     continue;
                 }
                 const double nLen = glm::length(areaNormal);
+                const glm::dvec3 patchNormal = nLen > 0.0 ? areaNormal / nLen : glm::dvec3(0, 0, 1);
+                // A piece left without area (cutting along solids and mending T-junctions can leave three vertices
+                // on one line; a 300k-triangle level had 143) takes its patch's normal: it receives and sends
+                // nothing, but rays leave every element along its normal (a zero one made them NaN).
+                for (std::uint32_t e = first; e < first + count; ++e)
+                    if (!(el.areaM2[e] > 0.0)) el.normal[e] = glm::vec3(patchNormal);
                 pa.firstElement.push_back(first);
                 pa.elementCount.push_back(count);
                 pa.areaM2.push_back(patchArea);
                 pa.centroid.push_back(areaCentroid / patchArea);
-                pa.normal.push_back(glm::vec3(nLen > 0.0 ? areaNormal / nLen : glm::dvec3(0, 0, 1)));
+                pa.normal.push_back(glm::vec3(patchNormal));
                 pa.reflectance.push_back(glm::vec3(areaRho / patchArea));
                 pa.emittedRadiance.push_back(glm::vec3(areaLe / patchArea));
                 pa.instance.push_back(std::uint32_t(instIndex));
