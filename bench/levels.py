@@ -143,6 +143,8 @@ def bake_rows(a, level, name, gltf, density, reference, save):
                "timings": report.get("timings"), "outDir": out_dir,
                "texels": report.get("lightmap", {}).get("texels"),
                "rowRaysTraced": report.get("convergence", {}).get("rowRaysTraced"),
+               "emittersByRays": report.get("convergence", {}).get("emittersByRays"),
+               "warnings": report.get("warnings"),
                **(scores(a.binary, out_dir, reference) if reference else {})}
         level["rows"][key] = row
         if not level.get("texels"):
