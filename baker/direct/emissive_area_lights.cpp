@@ -90,6 +90,7 @@ EmissiveAreaLights::EmissiveAreaLights(const PatchMesh& mesh, const EmbreeScene&
         const glm::vec3 l = el.emittedRadiance[e];
         if (l.x > 0.0f || l.y > 0.0f || l.z > 0.0f) groups[{el.instance[e], el.sourceFace[e], el.backSide[e]}].push_back(e);
     }
+    inputTriangles_ = groups.size();
     for (const auto& [key, members] : groups) {
         const glm::dvec3 radiance(el.emittedRadiance[members[0]]);
         double area = 0.0;
@@ -294,7 +295,7 @@ std::unique_ptr<EmissiveAreaLights> makeEmissiveAreaLights(const PatchMesh& mesh
                                                            const LightingSettings& lighting, int samplesPerPoint) {
     if (lighting.emitters != EmitterLighting::Rays) return nullptr;
     auto lights = std::make_unique<EmissiveAreaLights>(mesh, rays, samplesPerPoint > 0 ? samplesPerPoint : lighting.emitterSamples);
-    if (lights->empty() || lights->triangleCount() > std::size_t(std::max(lighting.maxRayTracedEmitters, 0))) return nullptr;
+    if (lights->empty() || lights->inputTriangleCount() > std::size_t(std::max(lighting.maxRayTracedEmitters, 0))) return nullptr;
     return lights;
 }
 

@@ -30,6 +30,9 @@ public:
 
     bool empty() const { return triangles_.empty(); }
     std::size_t triangleCount() const { return triangles_.size(); }
+    // Input triangles the lights come from (per side of a double-sided face), what the limit counts: faces cut along
+    // solids or trimmed stay as several triangles each, so triangleCount() may be larger.
+    std::size_t inputTriangleCount() const { return inputTriangles_; }
     double emittedPowerW() const;  // π·L_e·A summed over channels and triangles
 
     // The emitters as one planar receiving element (or point) sees them. A contour integral per emitter triangle per
@@ -66,14 +69,16 @@ private:
         double radiusM;       // of the sphere about the centroid that holds it
     };
     std::vector<Triangle> triangles_;
+    std::size_t inputTriangles_ = 0;
     const EmbreeScene& rays_;
     int samples_;
 };
 
 // The area lights a bake uses, or null when emitters shoot through hemicubes instead: by setting, because the
-// scene has no emitter, or because it has more emitter triangles than LightingSettings::maxRayTracedEmitters
-// (every element and texel tests every emitter triangle, near ones per point; elements bisected from one input
-// triangle count as that one). The solver and the lightmap baker both ask, and get the same answer.
+// scene has no emitter, or because it has more emitter input triangles than LightingSettings::maxRayTracedEmitters
+// (every element and texel tests every emitter triangle, near ones per point). Input triangles, as the solve counts
+// them to size emitter patches before subdividing: counting the cut ones instead sent a 300k-triangle level's
+// emitters (3,696 input triangles, more after cuts) through rows from patches sized for rays. The solver and the lightmap baker both ask, and get the same answer.
 // `samplesPerPoint` 0 = LightingSettings::emitterSamples.
 std::unique_ptr<EmissiveAreaLights> makeEmissiveAreaLights(const PatchMesh& mesh, const EmbreeScene& rays,
                                                            const LightingSettings& lighting, int samplesPerPoint = 0);

@@ -124,9 +124,9 @@ private:
         std::size_t emitting = 0;
         for (const glm::vec3& l : solved.mesh.elements.emittedRadiance) emitting += (l.x > 0.0f || l.y > 0.0f || l.z > 0.0f);
         if (s.lighting.emitters == EmitterLighting::Rays && emitting > 0 && !solved.report.emittersByRays)
-            warn("emitters make more than " + std::to_string(s.lighting.maxRayTracedEmitters) + " lights (" +
-                 std::to_string(emitting) + " emitting elements; faces cut or trimmed count per element): emitters shoot "
-                 "through hemicubes instead of rays (their shadows follow the element grid)");
+            warn("emitters have more than " + std::to_string(s.lighting.maxRayTracedEmitters) + " input triangles (" +
+                 std::to_string(emitting) + " emitting elements): emitters shoot their light like other patches instead "
+                 "of being traced by rays (their shadows follow the element grid)");
         stage("solve");
         const SolveReport& sr = solved.report;
         done("solved: " + sr.stopReason + ", " + std::to_string(sr.shots) + " shots, " + std::to_string(sr.gatherSweeps) +

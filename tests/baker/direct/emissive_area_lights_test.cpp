@@ -300,3 +300,30 @@ TEST(EmissiveAreaLights, FarEmittersAreOneValuePerElement) {
     EXPECT_LT(worst, 1e-3);
     EXPECT_LT(worstPoint, 1e-3);
 }
+
+// The limit on ray-traced emitters counts input triangles, as the solve does when it sizes emitter patches before
+// subdividing. An emitting floor crossed by a closed block is cut along the block into more light triangles than it
+// has input triangles; counted after the cut, the same limit sent its emitters through rows (from patches sized for
+// rays) while the solve had assumed rays.
+TEST(EmissiveAreaLights, EmittersCutAlongASolidStayRayTracedAtTheirInputTriangleLimit) {
+    SceneBuilder b("emitting floor through a block");
+    const int lamp = b.addMaterial(glm::vec3(0.5f), glm::vec3(1.0f), false, "lamp");
+    const int grey = b.addMaterial(glm::vec3(0.5f), glm::vec3(0.0f), false, "grey");
+    b.addQuad({0, 0, 0}, {0, 0, 2}, {2, 0, 2}, {2, 0, 0}, lamp, "emitting floor");
+    b.addBox({0.5, -0.5, 0.5}, {1.1, 0.5, 1.1}, grey, false, "block");
+    const Scene scene = b.build();
+    SolveSettings s;
+    s.subdivision = {1.0, 0.5, 0.0};
+    s.solver.hemicubeResolution = 32;
+    s.lighting.emitters = EmitterLighting::Rays;
+    s.lighting.maxRayTracedEmitters = 2;  // the floor's two input triangles
+    const EmbreeScene rays(scene);
+    const auto solved = solveScene(scene, s, rays);
+    const EmissiveAreaLights lights(solved->mesh, rays, 16);
+    EXPECT_EQ(lights.inputTriangleCount(), 2u);
+    ASSERT_GT(lights.triangleCount(), 2u) << "the block no longer cuts the floor: the test lost its premise";
+    EXPECT_TRUE(solved->report.emittersByRays);
+    EXPECT_NE(makeEmissiveAreaLights(solved->mesh, rays, s.lighting), nullptr);
+    s.lighting.maxRayTracedEmitters = 1;
+    EXPECT_EQ(makeEmissiveAreaLights(solved->mesh, rays, s.lighting), nullptr);
+}
