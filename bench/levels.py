@@ -82,8 +82,7 @@ def sweep_level(a, results, kind, triangles):
                                       "texelsPerUnit": a.texels_per_unit, "rows": {}})
     save = lambda: json.dump(results, open(os.path.join(a.work, "levels.json"), "w"), indent=1)
     if a.speed_only:
-        reference = None
-        bake_rows(a, level, name, gltf, density, reference, save)
+        bake_rows(a, level, name, gltf, density, None, save)
         return
 
     # The layout is the draft bake: its row is recorded like every other bake's (bake_row), so it is not baked twice.

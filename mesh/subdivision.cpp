@@ -351,7 +351,7 @@ PatchMesh subdivide(const Scene& scene, const SubdivisionSettings& settings, con
                     const glm::dvec3 a = el.vertices[tri[0]], b = el.vertices[tri[1]], cc = el.vertices[tri[2]];
                     const glm::dvec3 cross = glm::cross(b - a, cc - a);
                     const double area = 0.5 * glm::length(cross);
-                    const glm::dvec3 n = area > 0.0 ? cross / (2.0 * area) : glm::dvec3(0.0);  // see below
+                    const glm::dvec3 n = area > 0.0 ? cross / (2.0 * area) : glm::dvec3(0.0);  // set below
                     const glm::dvec3 centroid = (a + b + cc) / 3.0;
                     const glm::vec3 rho = scene.averageReflectance(instance.material, uv0[0], uv0[1], uv0[2]);
                     el.triangles.push_back(tri);

@@ -78,7 +78,8 @@ private:
 // scene has no emitter, or because it has more emitter input triangles than LightingSettings::maxRayTracedEmitters
 // (every element and texel tests every emitter triangle, near ones per point). Input triangles, as the solve counts
 // them to size emitter patches before subdividing: counting the cut ones instead sent a 300k-triangle level's
-// emitters (3,696 input triangles, more after cuts) through rows from patches sized for rays. The solver and the lightmap baker both ask, and get the same answer.
+// emitters (3,696 input triangles, more after cuts) through rows from patches sized for rays. The solver and the
+// lightmap baker both ask, and get the same answer.
 // `samplesPerPoint` 0 = LightingSettings::emitterSamples.
 std::unique_ptr<EmissiveAreaLights> makeEmissiveAreaLights(const PatchMesh& mesh, const EmbreeScene& rays,
                                                            const LightingSettings& lighting, int samplesPerPoint = 0);
