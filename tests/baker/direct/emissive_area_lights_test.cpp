@@ -1,6 +1,7 @@
 // Emissive surfaces lit by rays (EmissiveAreaLights) against GROUND_TRUTH §1 and §2: the unoccluded term is
 // Lambert's formula (exact), shadows come from real Embree rays, and the solver that uses it still solves
 // the furnace and keeps the power ledger.
+#include <array>
 #include <cmath>
 #include <cstdio>
 
@@ -299,6 +300,206 @@ TEST(EmissiveAreaLights, FarEmittersAreOneValuePerElement) {
     std::printf("worst element %.3g, worst point %.3g\n", worst, worstPoint);
     EXPECT_LT(worst, 1e-3);
     EXPECT_LT(worstPoint, 1e-3);
+}
+
+// A level's lamps, seen from a room far from them: 400 ceiling lamps (one triangle each, all facing down, five
+// brightnesses) 40–80 m away, with or without a lamp of the room's own over the floor. Clusters of lamps are taken
+// as one point source while their error bounds stay within a budget of the receiver's unoccluded light, so with a
+// lamp of its own a receiver looks at far fewer nodes than there are lamps; either way the unoccluded value must
+// hold (against Lambert's formula per lamp and point) and so must the shadows: a wall hides the far, bright lamps, so
+// picking a lamp within a cluster by anything but its power would bias the visible fraction (checked against a
+// shadow ray to every lamp).
+TEST(EmissiveAreaLights, FarClustersOfLampsAreOnePointSourceAndKeepTheirShadows) {
+    struct Lamp {
+        glm::dvec3 a, b, c;
+        double le;
+    };
+    std::vector<Lamp> farLamps;
+    for (int i = 0; i < 20; ++i)
+        for (int j = 0; j < 20; ++j) {
+            const glm::dvec3 centre(40.0 + 2.0 * i, 3.0, -18.0 + 2.0 * j);
+            // Counter-clockwise seen from below: emits downwards. Brighter with distance: 1 … 5.
+            farLamps.push_back({centre + glm::dvec3(0.1, 0, 0), centre + glm::dvec3(-0.05, 0, 0.0866),
+                                centre + glm::dvec3(-0.05, 0, -0.0866), double(i / 4 + 1)});
+            if (glm::cross(farLamps.back().b - farLamps.back().a, farLamps.back().c - farLamps.back().a).y > 0.0)
+                std::swap(farLamps.back().b, farLamps.back().c);
+        }
+    // The room's own: a 0.5 m square at 2.5 m over the floor's centre, facing down.
+    const std::vector<Lamp> roomLamp = {{{1.75, 2.5, 1.75}, {2.25, 2.5, 1.75}, {2.25, 2.5, 2.25}, 5.0},
+                                        {{1.75, 2.5, 1.75}, {2.25, 2.5, 2.25}, {1.75, 2.5, 2.25}, 5.0}};
+    auto scene = [&](const std::vector<Lamp>& lamps, bool wall) {
+        SceneBuilder b("far ceiling lamps");
+        const int black = b.addMaterial(glm::vec3(0.0f), glm::vec3(0.0f), false, "black");
+        int materials[5];
+        for (int m = 0; m < 5; ++m) materials[m] = b.addMaterial(glm::vec3(0.0f), glm::vec3(float(m + 1)), false, "lamp");
+        b.addQuad({0, 0, 0}, {0, 0, 4}, {4, 0, 4}, {4, 0, 0}, black, "floor");
+        for (const Lamp& l : lamps) b.addTriangles({l.a, l.b, l.c}, {{0, 1, 2}}, materials[int(l.le) - 1], "lamp");
+        if (wall) b.addQuad({20, 0, -40}, {20, 1, -40}, {20, 1, 40}, {20, 0, 40}, black, "wall");  // hides x ≳ 56
+        return b.build();
+    };
+    const glm::dvec3 up(0, 1, 0);
+    auto exactAt = [&](const std::vector<Lamp>& lamps, const glm::dvec3& p, const EmbreeScene* visibility) {
+        double sum = 0.0;
+        for (const Lamp& l : lamps) {
+            const glm::dvec3 v[3] = {l.a, l.b, l.c};
+            const glm::dvec3 centroid = (l.a + l.b + l.c) / 3.0;
+            if (visibility && visibility->occluded(visibility->offsetFromSurface(p, up), visibility->offsetFromSurface(centroid, -up),
+                                                   EmbreeScene::RayEnds::Lifted))
+                continue;  // both ends lifted off their surfaces, as the estimator's shadow rays are
+            sum += l.le * EmissiveAreaLights::unoccludedFormFactor(p, up, v, 3);
+        }
+        return sum;
+    };
+
+    for (const bool ownLamp : {false, true}) {  // unoccluded: the value, and how many nodes a floor element looks at
+        std::vector<Lamp> lamps = farLamps;
+        if (ownLamp) lamps.insert(lamps.end(), roomLamp.begin(), roomLamp.end());
+        const Scene open = scene(lamps, false);
+        const PatchMesh mesh = subdivide(open, SubdivisionSettings{1.0, 0.5, 0.0});
+        const EmbreeScene rays(open);
+        const EmissiveAreaLights lights(mesh, rays, 4);
+        ASSERT_EQ(lights.triangleCount(), lamps.size());
+        DirectLightSettings ds;
+        ds.punctualLights = false;
+        const DirectLight direct(open, rays, ds, &lights);
+        double worst = 0.0, worstPoint = 0.0;
+        std::size_t floorElements = 0, largestView = 0;
+        EmissiveAreaLights::ReceiverView view;
+        for (std::size_t e = 0; e < mesh.elements.size(); ++e) {
+            if (mesh.elements.normal[e].y < 0.5f) continue;
+            ++floorElements;
+            const glm::dvec3 receiver[3] = {pointOnElement(mesh.elements, e, 1, 0), pointOnElement(mesh.elements, e, 0, 1),
+                                            pointOnElement(mesh.elements, e, 0, 0)};
+            lights.viewFrom(receiver, up, view);
+            largestView = std::max(largestView, view.perPoint.size() + view.constant.size());
+            double exact = 0.0;
+            int points = 0;
+            forEachSubTriangleCentroid(8, [&](double wa, double wb) {
+                const glm::dvec3 p = pointOnElement(mesh.elements, e, wa, wb);
+                const double here = exactAt(lamps, p, nullptr);
+                exact += here;
+                ++points;
+                worstPoint = std::max(worstPoint, std::abs(lights.irradianceOverPiAt(p, up, 3).x - here) / here);
+            });
+            exact /= points;
+            worst = std::max(worst, std::abs(direct.elementIrradianceOverPi(mesh, e, 64).x - exact) / exact);
+        }
+        ASSERT_GT(floorElements, 30u);
+        std::printf("%s: worst element %.3g, worst point %.3g; at most %zu nodes for %zu lamps per element\n",
+                    ownLamp ? "with a lamp of its own" : "far lamps only", worst, worstPoint, largestView, lamps.size());
+        EXPECT_LT(worst, 1e-3);
+        EXPECT_LT(worstPoint, 1e-3);
+        if (ownLamp) EXPECT_LT(largestView, lamps.size() / 10);
+    }
+    {  // Behind the wall: the mean over floor points against a shadow ray to every lamp.
+        const Scene walled = scene(farLamps, true);
+        const PatchMesh mesh = subdivide(walled, SubdivisionSettings{1.0, 0.5, 0.0});
+        const EmbreeScene rays(walled);
+        const EmissiveAreaLights lights(mesh, rays, 1024);
+        double got = 0.0, exact = 0.0, unoccluded = 0.0;
+        std::uint64_t seed = 0;
+        for (double x = 0.25; x < 4.0; x += 0.5)
+            for (double z = 0.25; z < 4.0; z += 0.5) {
+                const glm::dvec3 p(x, 0.0, z);
+                got += lights.irradianceOverPiAt(p, up, ++seed).x;
+                exact += exactAt(farLamps, p, &rays);
+                unoccluded += exactAt(farLamps, p, nullptr);
+            }
+        std::printf("behind the wall: visible %.4f of the unoccluded light, estimated %.4f\n", exact / unoccluded,
+                    got / unoccluded);
+        ASSERT_LT(exact, 0.8 * unoccluded) << "the wall no longer hides the far lamps: the test lost its premise";
+        ASSERT_GT(exact, 0.2 * unoccluded);
+        EXPECT_NEAR(got / exact, 1.0, 0.01);
+    }
+}
+
+// Emitters away from a receiver (≥ kPerPointDistance × their extents) whose planes cross: a lamp reaching below a
+// floor element's plane (clipped by it once: the plane is every point's), and a floor element crossing a lamp's
+// plane (its front part averaged, the back part sees nothing). One value over the element, against the mean of
+// Lambert's formula at 4,096 points of it (zero where a point is behind the lamp).
+TEST(EmissiveAreaLights, StraddlingEmittersAwayFromAnElementAreOneValue) {
+    const glm::dvec3 up(0, 1, 0);
+    const glm::dvec3 receiver[3] = {{-0.25, 0, -0.2}, {0.3, 0, 0.05}, {-0.1, 0, 0.3}};  // crosses z = 0, ≈ 0.3 m radius
+    struct Case {
+        const char* name;
+        std::array<glm::dvec3, 3> lamp;  // emitting side counter-clockwise
+    };
+    std::vector<Case> cases;
+    for (const double d : {2.0, 3.0, 5.0, 10.0}) {
+        // Facing −x at x = d, reaching from 0.4 m below the floor's plane to 0.6 m above it.
+        cases.push_back({"through the floor's plane", {glm::dvec3(d, -0.4, -0.3), glm::dvec3(d, -0.4, 0.3), glm::dvec3(d, 0.6, 0.0)}});
+        // Facing +z in the plane z = 0, which runs through the floor element, 0.2 … 0.8 m above the floor.
+        cases.push_back({"its plane through the element", {glm::dvec3(d, 0.2, 0.0), glm::dvec3(d + 0.5, 0.5, 0.0), glm::dvec3(d, 0.8, 0.0)}});
+        // Both: facing +z in z = 0, from below the floor's plane.
+        cases.push_back({"both", {glm::dvec3(d, -0.3, 0.0), glm::dvec3(d + 0.5, 0.3, 0.0), glm::dvec3(d, 0.5, 0.0)}});
+    }
+    double worst = 0.0;
+    int onePerElement = 0;
+    for (const Case& c : cases) {
+        const glm::dvec3 normal = glm::normalize(glm::cross(c.lamp[1] - c.lamp[0], c.lamp[2] - c.lamp[0]));
+        SceneBuilder b("one lamp");
+        b.addTriangles({c.lamp[0], c.lamp[1], c.lamp[2]}, {{0, 1, 2}}, b.addMaterial(glm::vec3(0.0f), glm::vec3(1.0f), false, "lamp"), "lamp");
+        b.addQuad({-20, -5, -20}, {-20, -5, 20}, {20, -5, 20}, {20, -5, -20}, b.addMaterial(glm::vec3(0.0f)), "ground");
+        const Scene scene = b.build();
+        const EmbreeScene rays(scene);
+        const EmissiveAreaLights lights(subdivide(scene, SubdivisionSettings{4.0, 2.0, 0.0}), rays, 4);
+        ASSERT_EQ(lights.triangleCount(), 1u);
+        EmissiveAreaLights::ReceiverView view;
+        lights.viewFrom(receiver, up, view);
+        const glm::dvec3 v[3] = {c.lamp[0], c.lamp[1], c.lamp[2]};
+        double exact = 0.0;
+        int points = 0;
+        forEachSubTriangleCentroid(64, [&](double wa, double wb) {
+            const glm::dvec3 p = wa * receiver[0] + wb * receiver[1] + (1.0 - wa - wb) * receiver[2];
+            if (glm::dot(p - c.lamp[0], normal) > 0.0) exact += EmissiveAreaLights::unoccludedFormFactor(p, up, v, 3);
+            ++points;
+        });
+        exact /= points;
+        ASSERT_GT(exact, 0.0) << c.name;
+        if (!view.constant.empty() && c.lamp[0].x >= 5.0) ++onePerElement;
+        const double got = view.constant.empty() ? exact : view.constantUnoccluded.x;  // per point: exact by construction
+        const double error = std::abs(got - exact) / exact;
+        std::printf("%-32s at x = %4.1f: mean F %.5g, one value %.5g (%+.2e)%s\n", c.name, c.lamp[0].x, exact, got,
+                    (got - exact) / exact, view.constant.empty() ? " [per point]" : "");
+        worst = std::max(worst, error);
+    }
+    EXPECT_EQ(onePerElement, 6) << "straddling emitters 5 m or more from the element should be one value over it";
+    EXPECT_LT(worst, 2e-3);
+}
+
+// Two lamps 0.5 m apart, 50 m above a point: one cluster there (one point source). Its shadow rays pick the lamp
+// within the cluster by power, and the pdf must say so: a plate hides the bright lamp (9) and leaves the dim one (1),
+// so the visible light is the dim lamp's alone; taking the pick as uniform within the cluster would put it at 1/81
+// of that.
+TEST(EmissiveAreaLights, ShadowRaysPickALampWithinAClusterByItsPower) {
+    SceneBuilder b("two lamps far above a point");
+    const int black = b.addMaterial(glm::vec3(0.0f), glm::vec3(0.0f), false, "black");
+    const int dim = b.addMaterial(glm::vec3(0.0f), glm::vec3(1.0f), false, "dim");
+    const int bright = b.addMaterial(glm::vec3(0.0f), glm::vec3(9.0f), false, "bright");
+    auto lampAt = [](double x) {  // counter-clockwise seen from below: emits downwards
+        return std::array<glm::dvec3, 3>{glm::dvec3(x + 0.1, 50, 0), glm::dvec3(x - 0.05, 50, 0.0866), glm::dvec3(x - 0.05, 50, -0.0866)};
+    };
+    const auto dimLamp = lampAt(-0.25), brightLamp = lampAt(0.25);
+    ASSERT_LT(glm::cross(dimLamp[1] - dimLamp[0], dimLamp[2] - dimLamp[0]).y, 0.0);
+    b.addTriangles({dimLamp[0], dimLamp[1], dimLamp[2]}, {{0, 1, 2}}, dim, "dim lamp");
+    b.addTriangles({brightLamp[0], brightLamp[1], brightLamp[2]}, {{0, 1, 2}}, bright, "bright lamp");
+    b.addQuad({0.05, 49, -0.3}, {0.6, 49, -0.3}, {0.6, 49, 0.3}, {0.05, 49, 0.3}, black, "plate under the bright lamp");
+    // The point lies on a floor, as receivers do: the rays' float precision is set by the scene's size.
+    b.addQuad({-30, 0, -30}, {-30, 0, 30}, {30, 0, 30}, {30, 0, -30}, black, "floor");
+    const Scene scene = b.build();
+    const EmbreeScene rays(scene);
+    const EmissiveAreaLights lights(subdivide(scene, SubdivisionSettings{1.0, 0.5, 0.0}), rays, 1024);
+    ASSERT_EQ(lights.triangleCount(), 2u);
+    const glm::dvec3 p(0.0), up(0, 1, 0);
+    EmissiveAreaLights::ReceiverView view;
+    const glm::dvec3 point[3] = {p, p, p};
+    lights.viewFrom(point, up, view);
+    ASSERT_EQ(view.perPoint.size() + view.constant.size(), 1u) << "the two lamps are no longer one cluster";
+    const glm::dvec3 v[3] = {dimLamp[0], dimLamp[1], dimLamp[2]};
+    const double exact = EmissiveAreaLights::unoccludedFormFactor(p, up, v, 3);  // the dim lamp's, L = 1
+    const double got = lights.irradianceOverPiAt(p, up, 5).x;
+    std::printf("visible: %.5g (the dim lamp's %.5g)\n", got, exact);
+    EXPECT_NEAR(got / exact, 1.0, 0.01);
 }
 
 // The limit on ray-traced emitters counts input triangles, as the solve does when it sizes emitter patches before
