@@ -276,15 +276,30 @@ double EmissiveAreaLights::viewTriangle(std::uint32_t node, const glm::dvec3 (&r
     };
     double f;
     if (behind > 0) {
+        // The receiver's points behind the emitter get nothing from it, those in front their share of the front
+        // part's mean (irradianceOverPiAt tests each point): spread over every point, a point behind would have had a share
+        // that none of its shadow rays can reach (they all leave behind the emitter), and the estimator would have
+        // taken it as unshadowed — light in a sealed room next to a lit one.
         glm::dvec3 front[4];
         const int k = clipAbove(t.a, t.normal, receiver, 3, front);
         const double wholeM2 = 0.5 * glm::length(glm::cross(receiver[1] - receiver[0], receiver[2] - receiver[0]));
         if (k < 3 || !(wholeM2 > 0.0)) return 0.0;
-        double sum = 0.0;
-        for (int j = 1; j + 1 < k; ++j)
-            sum += 0.5 * glm::length(glm::cross(front[j] - front[0], front[j + 1] - front[0])) *
-                   meanOverTriangle(front[0], front[j], front[j + 1]);
-        f = sum / wholeM2;
+        // F(p) = h(p)·∫ cosθ_r / (π r³) dA with h(p) p's height over the emitter's plane, the integral smooth: a
+        // point in front takes G·h(p), G from the front part's mean (h is linear, its mean is h at the centroid).
+        // Continuous at the plane, as F is: a constant there would be a step the element's points resolve to 1/k.
+        double sum = 0.0, frontM2 = 0.0;
+        glm::dvec3 weighted(0.0);
+        for (int j = 1; j + 1 < k; ++j) {
+            const double areaM2 = 0.5 * glm::length(glm::cross(front[j] - front[0], front[j + 1] - front[0]));
+            sum += areaM2 * meanOverTriangle(front[0], front[j], front[j + 1]);
+            frontM2 += areaM2;
+            weighted += areaM2 * (front[0] + front[j] + front[j + 1]) / 3.0;
+        }
+        if (!(sum > 0.0) || !(frontM2 > 0.0)) return 0.0;
+        const double meanHeightM = glm::dot(weighted / frontM2 - t.a, t.normal);
+        if (!(meanHeightM > 0.0)) return 0.0;
+        view.frontOnly.push_back({i, sum / frontM2 / meanHeightM});
+        return sum / wholeM2 * luminance(t.radiance);
     } else if (below == 0 && !refined && (radiusM > 0.0 || distanceM >= kPointSourceDistance * extentM)) {
         // A point source at the centroid: F = A·cosθ_r·cosθ_t / (π d²), relative error O((extent/d)²). Beyond
         // kPointSourceDistance always; nearer, a receiving element takes it as a candidate under the error budget
@@ -311,6 +326,7 @@ double EmissiveAreaLights::viewTriangle(std::uint32_t node, const glm::dvec3 (&r
 
 void EmissiveAreaLights::viewFrom(const glm::dvec3 (&receiver)[3], const glm::dvec3& n, ReceiverView& view) const {
     view.perPoint.clear();
+    view.frontOnly.clear();
     view.constant.clear();
     view.constantCdf.clear();
     view.constantUnoccluded = glm::dvec3(0.0);
@@ -431,6 +447,16 @@ glm::dvec3 EmissiveAreaLights::irradianceOverPiAt(const glm::dvec3& p, const glm
         total += f * luminance(t.radiance);
         cdf.push_back(total);
         index.push_back(i);
+    }
+    for (const ReceiverView::FrontOnly& front : view.frontOnly) {
+        const Triangle& t = triangles_[front.triangle];
+        const double heightM = glm::dot(p - t.a, t.normal);
+        if (!(heightM > 0.0)) continue;
+        const double f = front.formFactorPerM * heightM;
+        unoccluded += f * t.radiance;
+        total += f * luminance(t.radiance);
+        cdf.push_back(total);
+        index.push_back(front.triangle);
     }
     const double perPointTotal = total;
     if (!view.constantCdf.empty()) total += view.constantCdf.back();

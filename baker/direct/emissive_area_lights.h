@@ -46,6 +46,13 @@ public:
     // made the 300k-triangle level's direct light 4.3× the 100k level's for 3× the elements.
     struct ReceiverView {
         std::vector<std::uint32_t> perPoint;    // triangles evaluated at every point
+        // Triangles whose plane runs through the receiver: F = formFactorPerM × p's height over their plane in
+        // front of it, nothing behind.
+        struct FrontOnly {
+            std::uint32_t triangle;
+            double formFactorPerM;
+        };
+        std::vector<FrontOnly> frontOnly;
         std::vector<std::uint32_t> constant;    // clusters (nodes) whose form factor is one value over the receiver
         std::vector<double> constantCdf;        // running Σ F̄_node·luminance over `constant`
         glm::dvec3 constantUnoccluded{0.0};     // Σ F̄_t·L_t over the triangles of `constant`
