@@ -118,7 +118,7 @@ private:
 
 // The area lights a bake uses, or null when emitters shoot through hemicubes instead: by setting, because the
 // scene has no emitter, or because it has more emitter input triangles than LightingSettings::maxRayTracedEmitters
-// (every element and texel tests every emitter triangle, near ones per point). Input triangles, as the solve counts
+// (far emitters are clustered, but each near one costs a contour per point). Input triangles, as the solve counts
 // them to size emitter patches before subdividing: counting the cut ones instead sent a 300k-triangle level's
 // emitters (3,696 input triangles, more after cuts) through rows from patches sized for rays. The solver and the
 // lightmap baker both ask, and get the same answer.
