@@ -389,7 +389,9 @@ TEST(EmissiveAreaLights, FarClustersOfLampsAreOnePointSourceAndKeepTheirShadows)
                     ownLamp ? "with a lamp of its own" : "far lamps only", worst, worstPoint, largestView, lamps.size());
         EXPECT_LT(worst, 1e-3);
         EXPECT_LT(worstPoint, 1e-3);
-        if (ownLamp) EXPECT_LT(largestView, lamps.size() / 10);
+        if (ownLamp) {
+            EXPECT_LT(largestView, lamps.size() / 10);
+        }
     }
     {  // Behind the wall: the mean over floor points against a shadow ray to every lamp.
         const Scene walled = scene(farLamps, true);
