@@ -44,14 +44,16 @@ double radicalInverse2(std::uint32_t i) {
 
 // Receiver–emitter distances, in units of the sum of their bounding radii, past which an emitter triangle's form
 // factor is taken as one value over the receiver: the mean of the receiver's edge midpoints beyond
-// kPerPointDistance, a point source beyond kPointSourceDistance. Errors measured against per-point contours:
+// kPerPointDistance (for an element, a point source instead while the error budget below allows), a point source
+// beyond kPointSourceDistance. Errors measured against per-point contours:
 // tests/baker/direct/emissive_area_lights_test.cpp (FarEmittersAreOneValuePerElement).
 constexpr double kPerPointDistance = 4.0;
 constexpr double kPointSourceDistance = 24.0;
-// A cluster of emitter triangles (not closer than kPerPointDistance) is one point source while the sum of the
-// receiver's cluster error bounds, luminance(F·L)·(kClusterErrorScale·(extent/d)² + normal spread·extent/d), stays
-// under kClusterErrorBudget of its unoccluded total. Measured against per-point contours:
-// FarClustersOfLampsAreOnePointSourceAndKeepTheirShadows.
+// A cluster of emitter triangles (not closer than kPerPointDistance), or a single triangle between the two distances
+// above, is one point source while the sum of the receiver's error bounds, luminance(F·L)·(kClusterErrorScale·
+// (extent/d)² + normal spread·extent/d), stays under kClusterErrorBudget of its unoccluded total. Measured against
+// per-point contours: FarClustersOfLampsAreOnePointSourceAndKeepTheirShadows (the scale is empirical: 400 far lamps
+// and no near one came out at 6.9e-4 worst point under the 1e-3 budget).
 constexpr double kClusterErrorScale = 4.0;
 constexpr double kClusterErrorBudget = 1e-3;
 
