@@ -1,5 +1,5 @@
 #pragma once
-// Small shared math for sampling: a tangent frame around a normal, and a seedable integer mixer.
+// Small shared math for sampling: a tangent frame around a normal, a seedable integer mixer, dominant axes.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -8,6 +8,15 @@
 #include <glm/glm.hpp>
 
 namespace hemibake {
+
+// Index (0 = x, 1 = y, 2 = z) of v's largest component, ties to the first: the axis a box is longest along.
+inline int largestComponent(const glm::dvec3& v) { return v.x >= v.y && v.x >= v.z ? 0 : (v.y >= v.z ? 1 : 2); }
+
+// The cube face direction d points into, 2·axis + (negative ? 1 : 0): +x, −x, +y, −y, +z, −z.
+inline int cubeFaceOf(const glm::dvec3& d) {
+    const int axis = largestComponent(glm::abs(d));
+    return 2 * axis + (d[axis] < 0.0 ? 1 : 0);
+}
 
 // Duff et al. 2017, "Building an Orthonormal Basis, Revisited": branchless, continuous except where n.z
 // changes sign. t × b = n for unit n.

@@ -7,6 +7,8 @@
 #include <numeric>
 #include <string>
 
+#include "mesh/frame_math.h"
+
 namespace hemibake {
 
 namespace {
@@ -36,8 +38,7 @@ void splitIntoChunks(std::vector<std::uint32_t>& order, std::size_t first, std::
             lo = glm::min(lo, centroids[order[k]]);
             hi = glm::max(hi, centroids[order[k]]);
         }
-        const glm::dvec3 extent = hi - lo;
-        const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
+        const int axis = largestComponent(hi - lo);
         // Split on a multiple of the chunk size so that every leaf but the last is full.
         const std::size_t half = first + ((last - first) / maxPerChunk + 1) / 2 * maxPerChunk;
         std::nth_element(order.begin() + first, order.begin() + half, order.begin() + last,

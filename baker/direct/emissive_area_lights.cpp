@@ -67,6 +67,13 @@ BoundingSphere boundingSphere(const glm::dvec3& a, const glm::dvec3& b, const gl
     return {centre, std::max({glm::length(a - centre), glm::length(b - centre), glm::length(c - centre)})};
 }
 
+// One value over the receiver for node `node` (F·L per channel, `weight` its luminance): summed, and in the CDF.
+void addConstant(EmissiveAreaLights::ReceiverView& view, std::uint32_t node, const glm::dvec3& fl, double weight) {
+    view.constantUnoccluded += fl;
+    view.constant.push_back(node);
+    view.constantCdf.push_back((view.constantCdf.empty() ? 0.0 : view.constantCdf.back()) + weight);
+}
+
 }  // namespace
 
 EmissiveAreaLights::EmissiveAreaLights(const PatchMesh& mesh, const EmbreeScene& rays, int samplesPerPoint)
@@ -143,17 +150,12 @@ EmissiveAreaLights::EmissiveAreaLights(const PatchMesh& mesh, const EmbreeScene&
     }
     // One hierarchy per dominant normal direction, so that lamps facing one way cluster (a level's ceiling lamps
     // all face down; mixed with the walls' they would form cones too wide to aggregate).
-    auto bucket = [](const glm::dvec3& n) {
-        const glm::dvec3 m = glm::abs(n);
-        const int axis = m.x >= m.y && m.x >= m.z ? 0 : (m.y >= m.z ? 1 : 2);
-        return 2 * axis + (n[axis] < 0.0 ? 1 : 0);
-    };
     std::stable_sort(triangles_.begin(), triangles_.end(),
-                     [&](const Triangle& x, const Triangle& y) { return bucket(x.normal) < bucket(y.normal); });
+                     [](const Triangle& x, const Triangle& y) { return cubeFaceOf(x.normal) < cubeFaceOf(y.normal); });
     nodes_.reserve(2 * triangles_.size());
     for (std::size_t first = 0; first < triangles_.size();) {
         std::size_t last = first + 1;
-        while (last < triangles_.size() && bucket(triangles_[last].normal) == bucket(triangles_[first].normal)) ++last;
+        while (last < triangles_.size() && cubeFaceOf(triangles_[last].normal) == cubeFaceOf(triangles_[first].normal)) ++last;
         roots_.push_back(buildNodes(std::uint32_t(first), std::uint32_t(last)));
         first = last;
     }
@@ -168,6 +170,8 @@ std::uint32_t EmissiveAreaLights::buildNodes(std::uint32_t first, std::uint32_t 
     node.count = last - first;
     double weight = 0.0;
     glm::dvec3 weighted(0.0), areaNormal(0.0), lo(std::numeric_limits<double>::infinity()), hi(-lo);
+    node.boxLo = lo;
+    node.boxHi = hi;
     for (std::uint32_t i = first; i < last; ++i) {
         const Triangle& t = triangles_[i];
         const double w = t.areaM2 * luminance(t.radiance);
@@ -177,8 +181,8 @@ std::uint32_t EmissiveAreaLights::buildNodes(std::uint32_t first, std::uint32_t 
         for (int c = 0; c < 3; ++c) node.powerNormal[c] += t.areaM2 * t.radiance[c] * t.normal;
         lo = glm::min(lo, t.centroid);
         hi = glm::max(hi, t.centroid);
-        node.boxLo = i == first ? glm::min(t.a, glm::min(t.b, t.c)) : glm::min(node.boxLo, glm::min(t.a, glm::min(t.b, t.c)));
-        node.boxHi = i == first ? glm::max(t.a, glm::max(t.b, t.c)) : glm::max(node.boxHi, glm::max(t.a, glm::max(t.b, t.c)));
+        node.boxLo = glm::min(node.boxLo, glm::min(t.a, glm::min(t.b, t.c)));
+        node.boxHi = glm::max(node.boxHi, glm::max(t.a, glm::max(t.b, t.c)));
     }
     node.centre = weight > 0.0 ? weighted / weight : 0.5 * (lo + hi);
     const double axisLength = glm::length(areaNormal);
@@ -196,8 +200,7 @@ std::uint32_t EmissiveAreaLights::buildNodes(std::uint32_t first, std::uint32_t 
     nodes_.push_back(node);
     if (node.count > 1) {
         // Median split along the centroids' longest extent.
-        const glm::dvec3 extent = hi - lo;
-        const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
+        const int axis = largestComponent(hi - lo);
         const std::uint32_t middle = first + node.count / 2;
         std::nth_element(triangles_.begin() + first, triangles_.begin() + middle, triangles_.begin() + last,
                          [axis](const Triangle& x, const Triangle& y) { return x.centroid[axis] < y.centroid[axis]; });
@@ -320,9 +323,7 @@ double EmissiveAreaLights::viewTriangle(std::uint32_t node, const glm::dvec3 (&r
         f = meanOverTriangle(receiver[0], receiver[1], receiver[2]);
     }
     if (!(f > 0.0)) return 0.0;
-    view.constantUnoccluded += f * t.radiance;
-    view.constant.push_back(node);
-    view.constantCdf.push_back((view.constantCdf.empty() ? 0.0 : view.constantCdf.back()) + f * luminance(t.radiance));
+    addConstant(view, node, f * t.radiance, f * luminance(t.radiance));
     return f * luminance(t.radiance);
 }
 
@@ -413,11 +414,7 @@ void EmissiveAreaLights::viewFrom(const glm::dvec3 (&receiver)[3], const glm::dv
         view.stack.push_back(nodes_[split.node].left);
         drain();
     }
-    for (const ReceiverView::Cluster& c : view.clusters) {
-        view.constantUnoccluded += c.fl;
-        view.constant.push_back(c.node);
-        view.constantCdf.push_back((view.constantCdf.empty() ? 0.0 : view.constantCdf.back()) + c.weight);
-    }
+    for (const ReceiverView::Cluster& c : view.clusters) addConstant(view, c.node, c.fl, c.weight);
 }
 
 glm::dvec3 EmissiveAreaLights::irradianceOverPiAt(const glm::dvec3& p, const glm::dvec3& n, std::uint64_t seed) const {

@@ -40,10 +40,10 @@ public:
     // most triangles are far from most elements, where the unoccluded term is smooth over the element. Triangles
     // close to it are evaluated per point; the others once per element (mean of the three edge midpoints, exact for
     // a quadratic field; clipped to the receiver's plane, or over the receiver's part in front of theirs, where one
-    // straddles the other's plane) or, farther still, as point sources. Far
-    // enough, a whole cluster of emitters facing one way is one point source (a hierarchy over the triangles), so a
-    // receiver's cost grows with the emitters near it, not with the level's: testing every triangle per receiver
-    // made the 300k-triangle level's direct light 4.3× the 100k level's for 3× the elements.
+    // straddles the other's plane) or, farther still, as point sources. Far enough, a whole cluster of emitters
+    // facing one way is one point source (a hierarchy over the triangles), so a receiver's cost grows with the
+    // emitters near it, not with the level's: testing every triangle per receiver made the 300k-triangle level's
+    // direct light 4.3× the 100k level's for 3× the elements.
     struct ReceiverView {
         std::vector<std::uint32_t> perPoint;    // triangles evaluated at every point
         // Triangles whose plane runs through the receiver: F = formFactorPerM × p's height over their plane in
@@ -95,7 +95,8 @@ private:
         glm::dvec3 boxLo{0.0}, boxHi{0.0};  // of its vertices: planes through a flat row of lamps miss it
         glm::dvec3 axis{0.0};        // unit mean normal (area-weighted)
         double normalChord = 0.0;    // max |n_t − axis| over the triangles (chord of the normal cone)
-        glm::dvec3 powerNormal[3] = {glm::dvec3(0.0), glm::dvec3(0.0), glm::dvec3(0.0)};  // Σ A_t·L_t,c·n_t per channel c (W·sr⁻¹ per cos, over π)
+        // Σ A_t·L_t,c·n_t per channel c (W·sr⁻¹ per unit cosine, over π).
+        glm::dvec3 powerNormal[3] = {glm::dvec3(0.0), glm::dvec3(0.0), glm::dvec3(0.0)};
         std::uint32_t first = 0, count = 0;
         std::uint32_t left = 0, right = 0;  // children when count > 1
     };

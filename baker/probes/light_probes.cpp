@@ -14,6 +14,7 @@
 
 #include "baker/probes/cube_map_solid_angle.h"
 #include "baker/probes/volume_lookup.h"
+#include "mesh/frame_math.h"
 #include "raster/gl_context.h"
 #include "raster/scene_buffers.h"
 
@@ -23,9 +24,7 @@ namespace {
 
 // Texel of a cube map in direction d (for octahedral texels that no cube texel fell into).
 const glm::vec4& cubeTexelAt(const CubeMapImage& image, const glm::dvec3& d) {
-    const glm::dvec3 a = glm::abs(d);
-    const int axis = a.x >= a.y && a.x >= a.z ? 0 : (a.y >= a.z ? 1 : 2);
-    const int face = 2 * axis + (d[axis] < 0.0 ? 1 : 0);
+    const int face = cubeFaceOf(d);
     const CubeFaceBasis& b = cubeFaceBasis(face);
     const double forward = glm::dot(d, b.forward);
     const double s = glm::dot(d, b.right) / forward, t = glm::dot(d, b.up) / forward;
