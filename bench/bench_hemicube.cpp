@@ -21,7 +21,9 @@
 #include <random>
 #include <vector>
 
+#include "baker/direct/emissive_area_lights.h"
 #include "baker/lightmap/ray_gatherer.h"
+#include "baker/rays/embree_scene.h"
 #include "mesh/gltf_loader.h"
 #include "mesh/subdivision.h"
 #include "raster/hemicube_pool.h"
@@ -176,16 +178,21 @@ void BM_ItemBuffer(benchmark::State& state) { runHemicubes(state, Mode::Items); 
 // examples/level_small.gltf at the default preset's sizes (7 rooms and corridors whose walls stand in the slabs):
 // what occlusion culling saves where rooms hide each other. One worker, so the numbers are per core.
 // HEMIBAKE_BENCH_LEVEL=path.gltf measures another level (e.g. one from examples/generate_level.py).
+const Scene& levelSmallScene() {
+    static const Scene scene = [] {
+        const char* level = std::getenv("HEMIBAKE_BENCH_LEVEL");
+        return loadGltf(level != nullptr && *level != '\0' ? std::string(level)
+                                                              : std::string(HEMIBAKE_SOURCE_DIR) + "/examples/level_small.gltf");
+    }();
+    return scene;
+}
+
 const PatchMesh& levelSmall() {
     static const PatchMesh mesh = [] {
         SubdivisionSettings settings;
         settings.patchSizeM = 3.2;
         settings.elementSizeM = 1.6;
-        const char* level = std::getenv("HEMIBAKE_BENCH_LEVEL");
-        return subdivide(loadGltf(level != nullptr && *level != '\0'
-                                      ? std::string(level)
-                                      : std::string(HEMIBAKE_SOURCE_DIR) + "/examples/level_small.gltf"),
-                         settings);
+        return subdivide(levelSmallScene(), settings);
     }();
     return mesh;
 }
@@ -286,6 +293,33 @@ BENCHMARK(BM_LevelRayGather)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
     ->MinTime(1.0);
+
+// The emitters as each element of the level sees them (baker/direct/emissive_area_lights.h): what the direct light's
+// per-element setup costs, one worker; a level of the same kind but more rooms should cost the same per element.
+void BM_LevelEmitterViews(benchmark::State& state) {
+    const PatchMesh& mesh = levelSmall();
+    const EmbreeScene rays(levelSmallScene());
+    const EmissiveAreaLights lights(mesh, rays, 4);
+    EmissiveAreaLights::ReceiverView view;
+    const std::size_t stride = std::max<std::size_t>(1, mesh.elements.size() / 20000);
+    const ElementArrays& el = mesh.elements;
+    std::size_t viewed = 0, perPoint = 0, constant = 0;
+    for (auto _ : state)
+        for (std::size_t e = 0; e < el.size(); e += stride) {
+            const auto& tri = el.triangles[e];
+            const glm::dvec3 receiver[3] = {el.vertices[tri[0]], el.vertices[tri[1]], el.vertices[tri[2]]};
+            lights.viewFrom(receiver, glm::normalize(glm::dvec3(el.normal[e])), view);
+            ++viewed;
+            perPoint += view.perPoint.size() + view.frontOnly.size();
+            constant += view.constant.size();
+        }
+    state.SetItemsProcessed(static_cast<std::int64_t>(viewed));
+    state.counters["emitters"] = double(lights.triangleCount());
+    state.counters["perPoint"] = double(perPoint) / double(viewed);
+    state.counters["clusters"] = double(constant) / double(viewed);
+    state.counters["us/element"] = benchmark::Counter(double(viewed) / 1e6, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+BENCHMARK(BM_LevelEmitterViews)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
 
 BENCHMARK(BM_ItemBuffer)
     ->ArgNames({"ktris", "R", "threads"})

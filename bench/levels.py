@@ -12,7 +12,9 @@ into docs/tradeoff.md (between `<!-- bench/levels.py -->` markers; the rest of t
         --presets medium --texels-per-unit 4 --work build/levels-speed   # time and memory per texel only
 
 Levels come from examples/generate_level.py (seed 1): `clean:N` builds the layout whose parts meet without
-overlapping, `overlapping:N` the one whose walls stand in the slabs as artists build them. Every bake of a level
+overlapping, `overlapping:N` the one whose walls stand in the slabs as artists build them, `uniform:N` that one with
+the same detail per square metre at every size (generate_level.py --uniform: rooms in proportion to N; the default
+gives bigger levels more detail per room, so their time per texel grows with the level, not the baker). Every bake of a level
 uses the same --texels-per-unit, so the unwrap is identical and `hemibake compare` scores texel for texel.
 Per texel, the headline: compare's `relativeRmseAgainstTruth`, the RMS error against the noise-free answer relative
 to each primitive's mean, with the reference's own noise taken out through the standard error it carries (a 4,096-spp
@@ -76,7 +78,8 @@ def sweep_level(a, results, kind, triangles):
     gltf = os.path.join(base, name + ".gltf")
     if not os.path.exists(gltf):
         subprocess.run([sys.executable, os.path.join(ROOT, "examples", "generate_level.py"), "--seed", "1", "--triangles",
-                        str(triangles), "-o", gltf] + (["--clean"] if kind == "clean" else []), check=True)
+                        str(triangles), "-o", gltf] + {"clean": ["--clean"], "uniform": ["--uniform"]}.get(kind, []),
+                       check=True)
     density = ["--texels-per-unit", str(a.texels_per_unit)]
     level = results.setdefault(name, {"level": name, "kind": kind, "targetTriangles": triangles,
                                       "texelsPerUnit": a.texels_per_unit, "rows": {}})
@@ -237,25 +240,32 @@ def plot(results, path):
 
 
 def plot_scaling(results, path, preset="medium"):
-    """Time and peak memory per texel of the preset's bake against the level's texels (log–log): flat lines are linear."""
+    """Time and peak memory per texel, and time per element triangle, of the preset's bake against the level's texels
+    (log–log), one line per kind of level: flat lines are linear."""
     plt = pyplot()
     if plt is None:
         return False
-    points = sorted((r.get("texels") or level.get("texels"), r["seconds"], r["peakMiB"], level["level"])
+    points = sorted((level.get("kind", "?"), r.get("texels") or level.get("texels"), r["seconds"], r["peakMiB"],
+                     r.get("sceneTriangles") or 0, level["level"])
                     for level in results.values() for r in level["rows"].values()
                     if r["method"] == "bake" and r["setting"] == preset and (r.get("texels") or level.get("texels")))
     if not points:
         return False
-    fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4.2))
-    for ax, values, ylabel in ((left, [1e6 * t / n for n, t, _, _ in points], "wall time per texel, µs"),
-                               (right, [1024.0 * 1024.0 * m / n for n, _, m, _ in points], "peak memory per texel, bytes")):
-        ax.loglog([p[0] for p in points], values, "-s")
-        for (n, _, _, label), v in zip(points, values):
-            ax.annotate(label, (n, v), fontsize=7, textcoords="offset points", xytext=(3, 3))
+    fig, axes = plt.subplots(1, 3, figsize=(15, 4.2))
+    panels = ((lambda p: 1e6 * p[2] / p[1], "wall time per texel, µs"),
+              (lambda p: 1024.0 * 1024.0 * p[3] / p[1], "peak memory per texel, bytes"),
+              (lambda p: 1e6 * p[2] / p[4] if p[4] else float("nan"), "wall time per element triangle, µs"))
+    for ax, (value, ylabel) in zip(axes, panels):
+        for kind in sorted({p[0] for p in points}):
+            mine = [p for p in points if p[0] == kind]
+            ax.loglog([p[1] for p in mine], [value(p) for p in mine], "-s", label=kind)
+            for p in mine:
+                ax.annotate(p[5], (p[1], value(p)), fontsize=7, textcoords="offset points", xytext=(3, 3))
         ax.set_xlabel("lightmap texels")
         ax.set_ylabel(ylabel)
-        ax.set_title(f"{preset} preset: per texel against texels (flat or falling = no worse than linear)", fontsize=9)
+        ax.set_title(f"{preset} preset (flat or falling = no worse than linear)", fontsize=9)
         ax.grid(True, which="both", lw=0.3)
+        ax.legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     return True
@@ -362,8 +372,8 @@ def main():
     results = json.load(open(store)) if os.path.exists(store) else {}
     for spec in a.levels:
         kind, _, triangles = spec.partition(":")
-        if kind not in ("clean", "overlapping") or not triangles.isdigit():
-            sys.exit(f"--levels {spec}: expected clean:N or overlapping:N")
+        if kind not in ("clean", "overlapping", "uniform") or not triangles.isdigit():
+            sys.exit(f"--levels {spec}: expected clean:N, overlapping:N or uniform:N")
         sweep_level(a, results, kind, int(triangles))
     chosen = {k: v for k, v in results.items() if k in {s.replace(":", "-") for s in a.levels}}
     png = None if a.speed_only else ("levels.png" if plot(chosen, os.path.join(a.docs, "levels.png")) else None)

@@ -387,10 +387,11 @@ def emit(nodes, meshes, name, mb):
     return mb.triangles
 
 
-def layout(rng, target):
+def layout(rng, target, uniform=False):
     """Column breakpoints xs (west to east) and bands (z0, z1, kind, row) south to north; the first draws of rng."""
     scale = max(target, 2000) / 10000.0
-    n_rooms = max(4, round(6 * scale ** 0.87))  # area grows slower than detail
+    # Area grows slower than detail, unless --uniform: then rooms in proportion to the target.
+    n_rooms = max(4, round(6 * scale ** (1.0 if uniform else 0.87)))
     pairs = max(1, round(math.sqrt(n_rooms) / 3))  # room rows come in pairs around a corridor
     cols = math.ceil(n_rooms / (2 * pairs))
     widths = [round(rng.uniform(6.0, 8.0), 2) for _ in range(cols)]
@@ -411,9 +412,9 @@ def layout(rng, target):
     return xs, bands, cols
 
 
-def generate(seed, target):
+def generate(seed, target, uniform=False):
     rng = random.Random(seed)
-    xs, bands, cols = layout(rng, target)
+    xs, bands, cols = layout(rng, target, uniform)
     xmin, xmax, zmin, zmax = xs[0], xs[-1], bands[0][0], bands[-1][1]
     rooms = [(b, c) for b in range(len(bands)) if bands[b][2] == "room" for c in range(cols)]
 
@@ -446,7 +447,7 @@ def generate(seed, target):
             panel(shell, xmin + (xmax - xmin) * (k + 0.5) / n, (z0 + z1) / 2, 1.0, 0.4)
     triangles += emit(nodes, meshes, "shell", shell)
 
-    segments = 16 if target < 50000 else 32
+    segments = 16 if uniform or target < 50000 else 32
     for idx, (b, c) in enumerate(rooms):
         z0, z1, _, row = bands[b]
         room = Room(xs[c] + WALL_T / 2, xs[c + 1] - WALL_T / 2, z0 + WALL_T / 2, z1 - WALL_T / 2)
@@ -692,11 +693,11 @@ def tunnel(mb, axis, centre, o):
         plane_face(mb, sill, 1, ya, 1, w0, w1, ua, ub)
 
 
-def generate_clean(seed, target):
+def generate_clean(seed, target, uniform=False):
     """The --clean level: same layout and doorways as generate() for the same seed and size, built so that parts
     meet without overlapping (see the module docstring)."""
     rng = random.Random(seed)
-    xs, bands, cols = layout(rng, target)
+    xs, bands, cols = layout(rng, target, uniform)
     xmin, xmax, zmin, zmax = xs[0], xs[-1], bands[0][0], bands[-1][1]
     rooms = [(b, c) for b in range(len(bands)) if bands[b][2] == "room" for c in range(cols)]
     corridors = [b for b in range(len(bands)) if bands[b][2] == "corridor"]
@@ -747,7 +748,7 @@ def generate_clean(seed, target):
                 panels += 1
         triangles += emit(nodes, meshes, "corridor_%d" % k, mb)
 
-    segments = 16 if target < 50000 else 32
+    segments = 16 if uniform or target < 50000 else 32
     for idx, (b, c) in enumerate(rooms):
         z0, z1, _, row = bands[b]
         room = CleanRoom(xs[c] + h, xs[c + 1] - h, z0 + h, z1 - h)
@@ -859,16 +860,20 @@ def main():
     ap.add_argument("--seed", type=int, default=1, help="random seed (same seed + size = same file)")
     ap.add_argument("--triangles", type=int, default=10000, help="approximate triangle count (size of the level)")
     ap.add_argument("-o", "--output", required=True, help="output .gltf (a .bin of the same name is written beside it)")
+    ap.add_argument("--uniform", action="store_true",
+                    help="the same detail per square metre at every size: rooms in proportion to --triangles and "
+                         "16-sided pillars (by default bigger levels get more rooms and more detail per room, and "
+                         "32-sided pillars from 50k triangles)")
     ap.add_argument("--clean", action="store_true",
                     help="parts meet without overlapping (no face under or through a solid, none sharing area); "
                          "for judging a baker's convergence apart from leaks (see below)")
     args = ap.parse_args()
     if not args.clean:
-        nodes, meshes, extent, triangles = generate(args.seed, args.triangles)
+        nodes, meshes, extent, triangles = generate(args.seed, args.triangles, args.uniform)
         write_gltf(args.output, nodes, meshes, extent, args.seed)
         print("%s: %d triangles, %d nodes, %.1f x %.1f m" % (args.output, triangles, len(nodes), extent[1] - extent[0], extent[3] - extent[2]))
         return
-    nodes, meshes, extent, triangles, stats = generate_clean(args.seed, args.triangles)
+    nodes, meshes, extent, triangles, stats = generate_clean(args.seed, args.triangles, args.uniform)
     write_gltf(args.output, nodes, meshes, extent, args.seed, clean=True)
     pts = [p for _, mb in meshes for pos, _, _ in mb.groups.values() for p in pos]
     lo, hi = [min(p[k] for p in pts) for k in range(3)], [max(p[k] for p in pts) for k in range(3)]
