@@ -28,7 +28,7 @@ struct BakeOptions {
     std::optional<double> adaptiveThreshold, roomFraction, unevenShotSpread, unevenRaysPerLight;
     std::optional<std::uint64_t> maxShots;
     std::optional<std::string> solver, emitters;
-    std::optional<int> emitterSamples;
+    std::optional<int> emitterSamples, maxRayTracedEmitters;
     std::vector<float> sky;
     float sunDiameterDeg = 0.0f;
     bool noAmbient = false;
@@ -84,6 +84,7 @@ BakeSettings resolveSettings(const BakeOptions& o, double sceneDiagonalM) {
     if (o.solver) solver.kind = parseSolverKind(*o.solver);
     if (o.emitters) lighting.emitters = parseEmitterLighting(*o.emitters);
     override(o.emitterSamples, lighting.emitterSamples);
+    override(o.maxRayTracedEmitters, lighting.maxRayTracedEmitters);
     solver.ambientCorrection = !o.noAmbient;
     s.solve.sides.enabled = o.separateSides;
     if (o.noSolidCuts) s.solve.subdivision.cutAlongSolids = false;
@@ -200,10 +201,16 @@ CommandRunner addBakeCommand(CLI::App& app) {
         ->check(CLI::Range(0.0, 1.0));
     cmd->add_option("--emitters", o->emitters,
                     "How emissive surfaces light the scene directly. rays: Lambert's exact formula times a shadow-ray "
-                    "visibility estimate at every element and texel (sharp, alias-free; the bounces still shoot "
-                    "through hemicubes); hemicube: emitters shoot their power like every other patch. Scenes with "
-                    "more than 4096 emitting elements fall back to hemicube")
+                    "visibility estimate at every element and texel (sharp, alias-free); hemicube: emitters shoot "
+                    "their power like every other patch (their shadows follow the element grid). Scenes with more "
+                    "emitter input triangles than --max-ray-traced-emitters fall back to hemicube, with a warning")
         ->check(CLI::IsMember({"rays", "hemicube"}));
+    cmd->add_option("--max-ray-traced-emitters", o->maxRayTracedEmitters,
+                    "Emitter input triangles (per side of a double-sided face) up to which --emitters rays holds "
+                    "(default 4096). Far lamps are clustered and cost little; each emitter triangle near a receiver "
+                    "costs a contour per point, so a densely tessellated emitting surface beside receivers is what "
+                    "the limit guards. A 300k-triangle level with 3,696: direct light 256 s of a 1,525 s bake")
+        ->check(CLI::Range(0, 1 << 24));
     cmd->add_option("--emitter-samples", o->emitterSamples,
                     "Shadow rays per point towards emissive surfaces (--emitters rays); only penumbrae are noisy")
         ->check(CLI::Range(1, 4096));

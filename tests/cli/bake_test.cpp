@@ -2,6 +2,8 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -90,8 +92,29 @@ TEST(CliBake, HelpExplainsEveryKnob) {
     EXPECT_EQ(r.exitCode, 0);
     for (const char* knob : {"--preset", "--patch-size", "--element-size", "--hemicube-res", "--epsilon", "--solver",
                              "--gather-sweeps", "--sky", "--max-time", "--threads", "draft", "ultra", "--final-gather",
-                             "--gather-rays", "--shoot-rows", "--row-rays"})
+                             "--gather-rays", "--shoot-rows", "--row-rays", "--max-ray-traced-emitters"})
         EXPECT_NE(r.out.find(knob), std::string::npos) << knob;
+}
+
+// The ray-traced emitters' limit is a knob: the Cornell box's lamp is two input triangles, so a limit of 1 sends its
+// light through the shooter, with the warning and the report saying so, and the default traces it.
+TEST(CliBake, EmitterLimitIsAKnob) {
+    TempDir dir;
+    for (const bool limited : {false, true}) {
+        const std::string out = dir.file(limited ? "limited" : "default");
+        std::vector<std::string> args = {"bake", hemibake::test::sharedScene("cornell_box.gltf"), "-o", out, "--preset",
+                                         "draft", "--no-preview"};
+        if (limited) args.insert(args.end(), {"--max-ray-traced-emitters", "1"});
+        const auto r = runHemibake(args);
+        ASSERT_EQ(r.exitCode, 0) << r.err;
+        std::ifstream in(out + "/bake.json");
+        const auto j = nlohmann::json::parse(in);
+        EXPECT_EQ(j["settings"]["maxRayTracedEmitters"], limited ? 1 : 4096);
+        EXPECT_EQ(j["convergence"]["emittersByRays"], !limited);
+        EXPECT_EQ(r.err.find("input triangles") != std::string::npos, limited) << r.err;
+    }
+    EXPECT_EQ(runHemibake({"bake", hemibake::test::sharedScene("cornell_box.gltf"), "-o", dir.file("x"),
+                           "--max-ray-traced-emitters", "-1"}).exitCode, 2);
 }
 
 // Input the loader had to correct (CONVENTIONS: reflectance clamped to [0, 0.999] "with a warning") is reported by
