@@ -245,22 +245,25 @@ def plot_scaling(results, path, preset="medium"):
     plt = pyplot()
     if plt is None:
         return False
-    points = sorted((level.get("kind", "?"), r.get("texels") or level.get("texels"), r["seconds"], r["peakMiB"],
-                     r.get("sceneTriangles") or 0, level["level"])
-                    for level in results.values() for r in level["rows"].values()
-                    if r["method"] == "bake" and r["setting"] == preset and (r.get("texels") or level.get("texels")))
+    points = sorted(({"kind": level.get("kind", "?"), "texels": r.get("texels") or level.get("texels"),
+                      "seconds": r["seconds"], "peakMiB": r["peakMiB"], "elements": r.get("sceneTriangles") or 0,
+                      "label": level["level"]}
+                     for level in results.values() for r in level["rows"].values()
+                     if r["method"] == "bake" and r["setting"] == preset and (r.get("texels") or level.get("texels"))),
+                    key=lambda p: (p["kind"], p["texels"]))
     if not points:
         return False
     fig, axes = plt.subplots(1, 3, figsize=(15, 4.2))
-    panels = ((lambda p: 1e6 * p[2] / p[1], "wall time per texel, µs"),
-              (lambda p: 1024.0 * 1024.0 * p[3] / p[1], "peak memory per texel, bytes"),
-              (lambda p: 1e6 * p[2] / p[4] if p[4] else float("nan"), "wall time per element triangle, µs"))
+    panels = ((lambda p: 1e6 * p["seconds"] / p["texels"], "wall time per texel, µs"),
+              (lambda p: 1024.0 * 1024.0 * p["peakMiB"] / p["texels"], "peak memory per texel, bytes"),
+              (lambda p: 1e6 * p["seconds"] / p["elements"] if p["elements"] else float("nan"),
+               "wall time per element triangle, µs"))
     for ax, (value, ylabel) in zip(axes, panels):
-        for kind in sorted({p[0] for p in points}):
-            mine = [p for p in points if p[0] == kind]
-            ax.loglog([p[1] for p in mine], [value(p) for p in mine], "-s", label=kind)
+        for kind in sorted({p["kind"] for p in points}):
+            mine = [p for p in points if p["kind"] == kind]
+            ax.loglog([p["texels"] for p in mine], [value(p) for p in mine], "-s", label=kind)
             for p in mine:
-                ax.annotate(p[5], (p[1], value(p)), fontsize=7, textcoords="offset points", xytext=(3, 3))
+                ax.annotate(p["label"], (p["texels"], value(p)), fontsize=7, textcoords="offset points", xytext=(3, 3))
         ax.set_xlabel("lightmap texels")
         ax.set_ylabel(ylabel)
         ax.set_title(f"{preset} preset (flat or falling = no worse than linear)", fontsize=9)
