@@ -40,13 +40,19 @@ inline glm::dvec2 concentricDisk(double u, double v) {
     return {b * std::cos(phi), b * std::sin(phi)};
 }
 
-// Malley's method: a cosine-weighted direction about unit n (pdf = cosθ/π) from a point of the unit square.
-inline glm::dvec3 cosineDirection(const glm::dvec3& n, double u1, double u2) {
+// Malley's method: a cosine-weighted direction about unit n (frame t, b, n) from a point of the unit square
+// (pdf = cosθ/π). For many directions about one normal: the frame built once.
+inline glm::dvec3 cosineDirection(const glm::dvec3& t, const glm::dvec3& b, const glm::dvec3& n, double u1, double u2) {
     const glm::dvec2 d = concentricDisk(u1, u2);
-    glm::dvec3 t, b;
-    orthonormalBasis(n, t, b);
     const double z = std::sqrt(std::max(0.0, 1.0 - glm::dot(d, d)));
     return glm::normalize(d.x * t + d.y * b + z * n);
+}
+
+// The same about unit n, its frame from orthonormalBasis.
+inline glm::dvec3 cosineDirection(const glm::dvec3& n, double u1, double u2) {
+    glm::dvec3 t, b;
+    orthonormalBasis(n, t, b);
+    return cosineDirection(t, b, n, u1, u2);
 }
 
 // The largest strata count whose square is at most `rays` (at least 1): stratified ray counts are squares.

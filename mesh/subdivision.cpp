@@ -136,9 +136,11 @@ std::size_t conformBoundaries(std::vector<RefinedInstance>& parts, double tolM, 
                 const glm::dvec3 p = toGlm(parts[i].mesh.point(v));
                 grid[cellKey(cellOf(p.x), cellOf(p.y), cellOf(p.z))].push_back(p);
             }
-    std::size_t splits = 0;
-    for (std::size_t i = 0; i < parts.size(); ++i) {
+    // Each part splits only its own edges, at vertices gathered above before any split: parts are independent.
+    std::vector<std::size_t> partSplits(parts.size(), 0);
+    tbb::parallel_for(std::size_t(0), parts.size(), [&](std::size_t i) {
         SurfaceMesh& m = parts[i].mesh;
+        std::size_t& splits = partSplits[i];
         std::vector<SurfaceMesh::HalfedgeHandle> boundary;
         for (auto h : m.halfedges())
             if (m.is_boundary(h)) boundary.push_back(h);
@@ -154,12 +156,15 @@ std::size_t conformBoundaries(std::vector<RefinedInstance>& parts, double tolM, 
             const glm::dvec3 apex = toGlm(m.point(m.to_vertex_handle(m.next_halfedge_handle(m.opposite_halfedge_handle(h)))));
             std::vector<std::pair<double, glm::dvec3>> onEdge;
             const glm::dvec3 lo = glm::min(a, b) - tolM, hi = glm::max(a, b) + tolM;
+            const glm::dvec3 reachLo = lo - tolM, reachHi = hi + tolM;  // twice the tolerance: no rounding decides
             for (std::int64_t x = cellOf(lo.x); x <= cellOf(hi.x); ++x)
                 for (std::int64_t y = cellOf(lo.y); y <= cellOf(hi.y); ++y)
                     for (std::int64_t z = cellOf(lo.z); z <= cellOf(hi.z); ++z) {
                         auto it = grid.find(cellKey(x, y, z));
                         if (it == grid.end()) continue;
                         for (const glm::dvec3& bv : it->second) {
+                            // Most of a cell's vertices are nowhere near the edge: a box test before the division.
+                            if (glm::any(glm::lessThan(bv, reachLo)) || glm::any(glm::greaterThan(bv, reachHi))) continue;
                             const double t = glm::dot(bv - a, ab) / len2;
                             if (t <= tTol || t >= 1.0 - tTol) continue;
                             if (glm::length(a + t * ab - bv) > tolM || glm::length(bv - apex) <= tolM) continue;
@@ -187,7 +192,9 @@ std::size_t conformBoundaries(std::vector<RefinedInstance>& parts, double tolM, 
             }
         }
         m.update_face_normals();
-    }
+    });
+    std::size_t splits = 0;
+    for (std::size_t n : partSplits) splits += n;
     return splits;
 }
 

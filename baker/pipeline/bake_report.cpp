@@ -42,7 +42,7 @@ nlohmann::json convergenceJson(const SolveReport& solve) {
                          {"elementsReached", solve.ambientElements},
                          {"unknownPatches", solve.ambientUnknownPatches}}},
             // The solve's own stages, inside timings.solve.
-            {"seconds", {{"direct", solve.directSeconds}, {"shoot", solve.shootSeconds},
+            {"seconds", {{"prepare", solve.prepareSeconds}, {"direct", solve.directSeconds}, {"shoot", solve.shootSeconds},
                           {"localBound", solve.localBoundSeconds}, {"gather", solve.gatherSeconds}}},
             {"history", history}};
 }

@@ -1,5 +1,6 @@
 #include "baker/rays/embree_scene.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -157,6 +158,40 @@ std::size_t EmbreeScene::countOccluded(const glm::dvec3& origin, std::span<const
         for (std::size_t k = 0; k < count; ++k) occluded += packet.tfar[k] < 0.0f ? 1 : 0;  // -inf when occluded
     }
     return occluded;
+}
+
+void EmbreeScene::intersectSides(const glm::dvec3& origin, std::span<const glm::dvec3> unitDirs, double tMaxM,
+                                 RayEnds start, std::span<HitSide> out) const {
+    if (out.size() != unitDirs.size())
+        throw std::invalid_argument("EmbreeScene::intersectSides: " + std::to_string(out.size()) + " results for " +
+                                    std::to_string(unitDirs.size()) + " rays");
+    std::fill(out.begin(), out.end(), HitSide{});
+    const double tMin = start == RayEnds::Lifted ? 0.0 : rayEpsilonM_;
+    if (!(tMaxM > tMin)) return;
+    constexpr std::size_t kPacket = 16;
+    const glm::vec3 o(origin - origin_);
+    for (std::size_t first = 0; first < unitDirs.size(); first += kPacket) {
+        const std::size_t count = std::min(kPacket, unitDirs.size() - first);
+        alignas(64) RTCRayHit16 packet;
+        alignas(64) int valid[kPacket];
+        for (std::size_t k = 0; k < kPacket; ++k) {
+            valid[k] = k < count ? -1 : 0;
+            setPacketRay(packet.ray, k, o, unitDirs[first + std::min(k, count - 1)], float(tMin), float(tMaxM));
+            packet.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+            packet.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+        }
+        RTCIntersectContext context;
+        rtcInitIntersectContext(&context);
+        rtcIntersect16(valid, rtcScene_.get(), &context, &packet);
+        for (std::size_t k = 0; k < count; ++k) {
+            if (packet.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID) continue;
+            HitSide& side = out[first + k];
+            side.hit = true;
+            side.instance = packet.hit.geomID[k];
+            side.distanceM = double(packet.ray.tfar[k]);
+            side.frontFacing = glm::dot(faceNormal(side.instance, packet.hit.primID[k]), unitDirs[first + k]) < 0.0;
+        }
+    }
 }
 
 std::optional<Hit> EmbreeScene::intersect(const glm::dvec3& origin, const glm::dvec3& dir, double tMaxM, RayEnds start) const {

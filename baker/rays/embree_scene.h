@@ -48,6 +48,14 @@ struct Hit {
     bool frontFacing = false;     // the ray arrived on the side geometricNormal points to
 };
 
+// What a ray meets first, without the point it meets: enough to tell open space, a surface's front or its back.
+struct HitSide {
+    bool hit = false;
+    std::uint32_t instance = 0;  // Scene::instances index (when hit)
+    double distanceM = 0.0;      // along the unit direction (when hit)
+    bool frontFacing = false;    // as Hit::frontFacing
+};
+
 // Ray k of a packet of 16: origin (float, relative to the scene's origin), unit direction, [tnear, tfar], all masks.
 inline void setPacketRay(RTCRay16& packet, std::size_t k, const glm::vec3& origin, const glm::dvec3& unitDir, float tnear,
                          float tfar) {
@@ -86,6 +94,11 @@ public:
     // in packets of 16 (rays from one point share most of their traversal): occludedRay for each, faster.
     std::size_t countOccluded(const glm::dvec3& origin, std::span<const glm::dvec3> unitDirs, double tMaxM,
                               RayEnds start = RayEnds::OnSurface) const;
+    // The nearest hit of each ray from `origin` along unit directions `unitDirs` closer than tMaxM, into `out` (as
+    // many), traced in packets of 16: what intersect() finds, less the point and face (the side against the face's
+    // double-precision normal, as there). Throws std::invalid_argument if the sizes differ.
+    void intersectSides(const glm::dvec3& origin, std::span<const glm::dvec3> unitDirs, double tMaxM, RayEnds start,
+                        std::span<HitSide> out) const;
     // Nearest hit closer than tMaxM along the ray, `dir` as for occludedRay.
     std::optional<Hit> intersect(const glm::dvec3& origin, const glm::dvec3& dir, double tMaxM,
                                  RayEnds start = RayEnds::OnSurface) const;

@@ -17,9 +17,8 @@ namespace hemibake {
 
 inline constexpr double kDefaultMaxBackfaceFraction = 0.1;
 
-// Does a ray from `origin` (already lifted off its surface: offsetFromSurface) first meet the back face of a
-// single-sided surface? The test every ray of the criterion makes.
-bool rayMeetsBackface(const Scene& scene, const EmbreeScene& rays, const glm::dvec3& origin, const glm::dvec3& dir);
+// Is what a ray met (EmbreeScene::intersectSides) the back face of a single-sided surface?
+bool isSingleSidedBackface(const Scene& scene, const HitSide& side);
 
 // The fraction of the cosine-weighted hemisphere above surface point p (unit normal n: the side the point
 // receives on) that shows back faces of single-sided surfaces, from the strata × strata rays described above.

@@ -25,12 +25,17 @@ bool sealedAtTheHorizon(const Scene& scene, const EmbreeScene& rays, const glm::
     orthonormalBasis(n, t, b);
     const glm::dvec3 origin = rays.offsetFromSurface(p, n);
     const double sinE = std::sin(s.horizonElevationRad), cosE = std::cos(s.horizonElevationRad);
+    thread_local std::vector<glm::dvec3> dirs;
+    thread_local std::vector<HitSide> sides;
+    dirs.resize(std::size_t(s.horizonRays));
+    sides.resize(dirs.size());
     for (int i = 0; i < s.horizonRays; ++i) {
         const double phi = 2.0 * M_PI * (i + 0.5) / s.horizonRays;
         const glm::dvec3 dir = sinE * n + cosE * (std::cos(phi) * t + std::sin(phi) * b);
-        if (!rayMeetsBackface(scene, rays, origin, dir)) return false;
+        dirs[std::size_t(i)] = dir / glm::length(dir);
     }
-    return true;
+    rays.intersectSides(origin, dirs, std::numeric_limits<double>::infinity(), EmbreeScene::RayEnds::Lifted, sides);
+    return std::all_of(sides.begin(), sides.end(), [&](const HitSide& side) { return isSingleSidedBackface(scene, side); });
 }
 
 // The test for one sample point. Both parts stop tracing once decided: an open point typically after a handful

@@ -34,6 +34,9 @@ struct SolveReport {
     // shooting they show the shot light of the elements around them (radiosity_solver.cpp).
     std::size_t implausibleReceivers = 0;
     double directSeconds = 0.0, shootSeconds = 0.0, gatherSeconds = 0.0;
+    // Before the solve (solveScene): room scale, subdivision, exposed areas, the element ray scene, over every
+    // adaptive level.
+    double prepareSeconds = 0.0;
     // Power ledger, W per channel.
     glm::dvec3 emitterPowerW{0.0};   // π·L_e·A over emitting elements
     glm::dvec3 directPowerW{0.0};    // arriving straight from punctual lights and the sky

@@ -3,6 +3,7 @@
 #include "baker/rays/element_ray_scene.h"
 #include "baker/solve/adaptive_refinement.h"
 #include "baker/solve/direct_steps.h"
+#include "baker/util/stopwatch.h"
 #include "raster/hemicube_pool.h"
 
 namespace hemibake {
@@ -35,6 +36,8 @@ std::unique_ptr<SolvedScene> solveScene(const Scene& scene, const SolveSettings&
     const SolveSettings settings = withEmitterPatchSize(scene, requested);
     auto owned = std::make_unique<SolvedScene>();
     SolvedScene& solved = *owned;
+    const Stopwatch clock;
+    double prepareSeconds = 0.0, prepareStart = 0.0;
     // Subdivides (with `request`'s refinement regions), trims to exposed areas and solves from scratch.
     auto subdivideAndSolve = [&](const RefinementRequest* request) {
         solved.pool.reset();
@@ -44,8 +47,10 @@ std::unique_ptr<SolvedScene> solveScene(const Scene& scene, const SolveSettings&
         solved.pool = std::make_unique<HemicubePool>(solved.mesh, settings.solver.hemicubeResolution);
         if (settings.solver.rowSampling == RowSampling::Rays)
             solved.elementRays = std::make_unique<ElementRayScene>(solved.mesh);
+        prepareSeconds += clock.seconds() - prepareStart;
         solved.report = solveRadiosity(scene, solved.mesh, settings, *solved.pool, rays, solved.solution, progress,
                                        solved.elementRays.get());
+        prepareStart = clock.seconds();
     };
     // Regions accumulate (room scale, then each adaptive level): each re-subdivision starts from the unrefined mesh.
     RefinementRequest request = findRoomScaleRegions(scene, rays, settings, &solved.roomScale);
@@ -62,6 +67,7 @@ std::unique_ptr<SolvedScene> solveScene(const Scene& scene, const SolveSettings&
         solved.refinementRegions = request.regions.size() - solved.roomScale.regions - solved.directSteps.regions;
         subdivideAndSolve(&request);
     }
+    solved.report.prepareSeconds = prepareSeconds;
     return owned;
 }
 

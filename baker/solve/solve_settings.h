@@ -88,7 +88,7 @@ struct ExposedAreaSettings {
     // about 1/screenSamplesPerSide of an element) is missed.
     int screenSamplesPerSide = 4;
     int rayStrata = 8;                     // cosine-weighted rays per point: rayStrata², as the texel criterion
-    int screenRayStrata = 4;               // per screening point (it looks for any back face at all)
+    int screenRayStrata = 2;               // per screening point (it looks for any back face at all)
     double coveredBackfaceFraction = 0.9;  // see above
     int horizonRays = 16;                  // the ring just above the surface
     double horizonElevationRad = 10.0 * M_PI / 180.0;

@@ -178,3 +178,43 @@ TEST(EmbreeScene, PacketOcclusionCountsWhatSingleRaysSee) {
                     }
     }
 }
+
+// intersectSides traces packets of 16: ray by ray it must find what intersect does (hit or not, instance, distance,
+// side), for counts not a multiple of 16, both ray-end conventions and a finite tMax, near the origin and 1e5 m from
+// it; and it refuses a result span of the wrong size.
+TEST(EmbreeScene, PacketHitSidesAreWhatSingleRaysHit) {
+    for (const glm::dvec3 offset : {glm::dvec3(0.0), glm::dvec3(1e5, -1e5, 1e5)}) {
+        const Scene scene = testScene(offset);
+        const EmbreeScene rays(scene);
+        std::vector<glm::dvec3> dirs;
+        for (int i = 0; i < 1000; ++i) {  // a spread of unit directions over the sphere (Fibonacci)
+            const double z = 1.0 - (i + 0.5) / 500.0, r = std::sqrt(std::max(0.0, 1.0 - z * z)), phi = i * 2.399963229728653;
+            dirs.emplace_back(r * std::cos(phi), r * std::sin(phi), z);
+        }
+        const glm::dvec3 origins[] = {offset + glm::dvec3(0.5, 0.5, 1.0), rays.offsetFromSurface(offset + glm::dvec3(0.5, 0.5, 0.0), {0, 0, 1}),
+                                      offset + glm::dvec3(4.0, 1.0, -0.5), offset + glm::dvec3(0.5, 0.5, -1.0)};  // the last under "near"
+        std::size_t hits = 0, backs = 0;
+        for (const glm::dvec3& o : origins)
+            for (const auto ends : {EmbreeScene::RayEnds::OnSurface, EmbreeScene::RayEnds::Lifted})
+                for (const double tMax : {kInf, 2.5})
+                    for (const std::size_t count : {std::size_t(1000), std::size_t(37), std::size_t(0)}) {
+                        const std::span<const glm::dvec3> some(dirs.data(), count);
+                        std::vector<HitSide> sides(count);
+                        rays.intersectSides(o, some, tMax, ends, sides);
+                        for (std::size_t k = 0; k < count; ++k) {
+                            const std::optional<Hit> hit = rays.intersect(o, some[k], tMax, ends);
+                            ASSERT_EQ(sides[k].hit, hit.has_value()) << "ray " << k << " of " << count;
+                            if (!hit) continue;
+                            EXPECT_EQ(sides[k].instance, hit->instance);
+                            EXPECT_EQ(sides[k].distanceM, hit->distanceM);
+                            EXPECT_EQ(sides[k].frontFacing, hit->frontFacing);
+                            ++hits;
+                            backs += hit->frontFacing ? 0 : 1;
+                        }
+                    }
+        EXPECT_GT(hits, 1000u);
+        EXPECT_GT(backs, 50u);  // both sides are met
+        std::vector<HitSide> tooFew(3);
+        EXPECT_THROW(rays.intersectSides(origins[0], dirs, kInf, EmbreeScene::RayEnds::OnSurface, tooFew), std::invalid_argument);
+    }
+}
