@@ -22,6 +22,18 @@ glm::dvec3 unitDirection(const glm::dvec3& dir) {
     return dir / length;
 }
 
+// Rays first.. of `unitDirs` (at most 16) into `packet` from `origin` (scene frame), the unused lanes invalid and
+// repeating the last ray; returns how many are valid.
+std::size_t fillPacket(RTCRay16& packet, int (&valid)[16], const glm::vec3& origin, std::span<const glm::dvec3> unitDirs,
+                       std::size_t first, double tMin, double tMax) {
+    const std::size_t count = std::min<std::size_t>(16, unitDirs.size() - first);
+    for (std::size_t k = 0; k < 16; ++k) {
+        valid[k] = k < count ? -1 : 0;
+        setPacketRay(packet, k, origin, unitDirs[first + std::min(k, count - 1)], float(tMin), float(tMax));
+    }
+    return count;
+}
+
 }  // namespace
 
 const char* embreeErrorName(RTCError error) {
@@ -145,13 +157,9 @@ std::size_t EmbreeScene::countOccluded(const glm::dvec3& origin, std::span<const
     const glm::vec3 o(origin - origin_);
     std::size_t occluded = 0;
     for (std::size_t first = 0; first < unitDirs.size(); first += kPacket) {
-        const std::size_t count = std::min(kPacket, unitDirs.size() - first);
         alignas(64) RTCRay16 packet;
         alignas(64) int valid[kPacket];
-        for (std::size_t k = 0; k < kPacket; ++k) {
-            valid[k] = k < count ? -1 : 0;
-            setPacketRay(packet, k, o, unitDirs[first + std::min(k, count - 1)], float(tMin), float(tMaxM));
-        }
+        const std::size_t count = fillPacket(packet, valid, o, unitDirs, first, tMin, tMaxM);
         RTCIntersectContext context;
         rtcInitIntersectContext(&context);
         rtcOccluded16(valid, rtcScene_.get(), &context, &packet);
@@ -171,15 +179,11 @@ void EmbreeScene::intersectSides(const glm::dvec3& origin, std::span<const glm::
     constexpr std::size_t kPacket = 16;
     const glm::vec3 o(origin - origin_);
     for (std::size_t first = 0; first < unitDirs.size(); first += kPacket) {
-        const std::size_t count = std::min(kPacket, unitDirs.size() - first);
         alignas(64) RTCRayHit16 packet;
         alignas(64) int valid[kPacket];
-        for (std::size_t k = 0; k < kPacket; ++k) {
-            valid[k] = k < count ? -1 : 0;
-            setPacketRay(packet.ray, k, o, unitDirs[first + std::min(k, count - 1)], float(tMin), float(tMaxM));
-            packet.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
-            packet.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
-        }
+        const std::size_t count = fillPacket(packet.ray, valid, o, unitDirs, first, tMin, tMaxM);
+        std::fill(std::begin(packet.hit.geomID), std::end(packet.hit.geomID), RTC_INVALID_GEOMETRY_ID);
+        std::fill(std::begin(packet.hit.instID[0]), std::end(packet.hit.instID[0]), RTC_INVALID_GEOMETRY_ID);
         RTCIntersectContext context;
         rtcInitIntersectContext(&context);
         rtcIntersect16(valid, rtcScene_.get(), &context, &packet);

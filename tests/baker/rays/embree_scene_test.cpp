@@ -30,6 +30,16 @@ Scene testScene(const glm::dvec3& offset) {
     return b.build();
 }
 
+// 1,000 unit directions spread over the sphere (Fibonacci).
+std::vector<glm::dvec3> sphereDirections() {
+    std::vector<glm::dvec3> dirs;
+    for (int i = 0; i < 1000; ++i) {
+        const double z = 1.0 - (i + 0.5) / 500.0, r = std::sqrt(std::max(0.0, 1.0 - z * z)), phi = i * 2.399963229728653;
+        dirs.emplace_back(r * std::cos(phi), r * std::sin(phi), z);
+    }
+    return dirs;
+}
+
 }  // namespace
 
 TEST(EmbreeScene, HitReportsInstanceFaceDistanceAndSide) {
@@ -157,11 +167,7 @@ TEST(EmbreeScene, PacketOcclusionCountsWhatSingleRaysSee) {
     for (const glm::dvec3 offset : {glm::dvec3(0.0), glm::dvec3(1e5, -1e5, 1e5)}) {
         const Scene scene = testScene(offset);
         const EmbreeScene rays(scene);
-        std::vector<glm::dvec3> dirs;
-        for (int i = 0; i < 1000; ++i) {  // a spread of unit directions over the sphere (Fibonacci)
-            const double z = 1.0 - (i + 0.5) / 500.0, r = std::sqrt(std::max(0.0, 1.0 - z * z)), phi = i * 2.399963229728653;
-            dirs.emplace_back(r * std::cos(phi), r * std::sin(phi), z);
-        }
+        const std::vector<glm::dvec3> dirs = sphereDirections();
         const glm::dvec3 origins[] = {offset + glm::dvec3(0.5, 0.5, 1.0), rays.offsetFromSurface(offset + glm::dvec3(0.5, 0.5, 0.0), {0, 0, 1}),
                                       offset + glm::dvec3(4.0, 1.0, -0.5)};
         for (const glm::dvec3& o : origins)
@@ -186,11 +192,7 @@ TEST(EmbreeScene, PacketHitSidesAreWhatSingleRaysHit) {
     for (const glm::dvec3 offset : {glm::dvec3(0.0), glm::dvec3(1e5, -1e5, 1e5)}) {
         const Scene scene = testScene(offset);
         const EmbreeScene rays(scene);
-        std::vector<glm::dvec3> dirs;
-        for (int i = 0; i < 1000; ++i) {  // a spread of unit directions over the sphere (Fibonacci)
-            const double z = 1.0 - (i + 0.5) / 500.0, r = std::sqrt(std::max(0.0, 1.0 - z * z)), phi = i * 2.399963229728653;
-            dirs.emplace_back(r * std::cos(phi), r * std::sin(phi), z);
-        }
+        const std::vector<glm::dvec3> dirs = sphereDirections();
         const glm::dvec3 origins[] = {offset + glm::dvec3(0.5, 0.5, 1.0), rays.offsetFromSurface(offset + glm::dvec3(0.5, 0.5, 0.0), {0, 0, 1}),
                                       offset + glm::dvec3(4.0, 1.0, -0.5), offset + glm::dvec3(0.5, 0.5, -1.0)};  // the last under "near"
         std::size_t hits = 0, backs = 0;
