@@ -14,7 +14,9 @@ into docs/tradeoff.md (between `<!-- bench/levels.py -->` markers; the rest of t
 Levels come from examples/generate_level.py (seed 1): `clean:N` builds the layout whose parts meet without
 overlapping, `overlapping:N` the one whose walls stand in the slabs as artists build them, `uniform:N` that one with
 the same detail per square metre at every size (generate_level.py --uniform: rooms in proportion to N; the default
-gives bigger levels more detail per room, so their time per texel grows with the level, not the baker). Every bake of a level
+gives bigger levels more detail per room, so their time per texel grows with the level, not the baker), `tiled:N`
+N/10,000 copies of the uniform 10k level side by side, 10 m apart (generate_level.py --tiles): exactly the same
+content per square metre, so what its time per texel does is the baker's scaling alone. Every bake of a level
 uses the same --texels-per-unit, so the unwrap is identical and `hemibake compare` scores texel for texel.
 Per texel, the headline: compare's `relativeRmseAgainstTruth`, the RMS error against the noise-free answer relative
 to each primitive's mean, with the reference's own noise taken out through the standard error it carries (a 4,096-spp
@@ -71,14 +73,25 @@ def scores(binary, out_dir, reference):
             "p95RelativeError": g["p95RelativeError"], **per_object(c)}
 
 
+TILE_TRIANGLES = 10000
+
+
+def tiles_for(triangles):
+    """Copies of the uniform 10k level that make a tiled level of about `triangles`."""
+    return max(1, round(triangles / TILE_TRIANGLES))
+
+
 def sweep_level(a, results, kind, triangles):
     name = f"{kind}-{triangles}"
     base = os.path.join(a.work, name)
     os.makedirs(base, exist_ok=True)
     gltf = os.path.join(base, name + ".gltf")
     if not os.path.exists(gltf):
+        # tiled:N is N / TILE_TRIANGLES copies of the uniform TILE_TRIANGLES level side by side.
+        size = TILE_TRIANGLES if kind == "tiled" else triangles
         subprocess.run([sys.executable, os.path.join(ROOT, "examples", "generate_level.py"), "--seed", "1", "--triangles",
-                        str(triangles), "-o", gltf] + {"clean": ["--clean"], "uniform": ["--uniform"]}.get(kind, []),
+                        str(size), "-o", gltf] + {"clean": ["--clean"], "uniform": ["--uniform"],
+                                                 "tiled": ["--uniform", "--tiles", str(tiles_for(triangles))]}.get(kind, []),
                        check=True)
     density = ["--texels-per-unit", str(a.texels_per_unit)]
     level = results.setdefault(name, {"level": name, "kind": kind, "targetTriangles": triangles,
@@ -359,7 +372,7 @@ def main():
     ap.add_argument("--work", default=os.path.join(ROOT, "build", "levels"))
     ap.add_argument("--docs", default=os.path.join(ROOT, "docs"))
     ap.add_argument("--levels", nargs="+", default=["clean:10000", "overlapping:100000", "overlapping:300000"],
-                    help="KIND:TRIANGLES, KIND clean or overlapping")
+                    help="KIND:TRIANGLES, KIND clean, overlapping, uniform or tiled")
     ap.add_argument("--presets", nargs="+", default=["draft", "medium", "high", "ultra"])
     ap.add_argument("--variant", action="append", default=[], metavar="LABEL=ARGS",
                     help="an extra bake row, e.g. 'medium, interpolate=--preset medium --texel-mode interpolate'")
@@ -375,8 +388,8 @@ def main():
     results = json.load(open(store)) if os.path.exists(store) else {}
     for spec in a.levels:
         kind, _, triangles = spec.partition(":")
-        if kind not in ("clean", "overlapping", "uniform") or not triangles.isdigit():
-            sys.exit(f"--levels {spec}: expected clean:N, overlapping:N or uniform:N")
+        if kind not in ("clean", "overlapping", "uniform", "tiled") or not triangles.isdigit():
+            sys.exit(f"--levels {spec}: expected clean:N, overlapping:N, uniform:N or tiled:N")
         sweep_level(a, results, kind, int(triangles))
     chosen = {k: v for k, v in results.items() if k in {s.replace(":", "-") for s in a.levels}}
     png = None if a.speed_only else ("levels.png" if plot(chosen, os.path.join(a.docs, "levels.png")) else None)

@@ -38,6 +38,7 @@ import random
 import struct
 
 WALL_T = 0.2          # wall thickness, metres
+TILE_GAP = 10.0       # between copies of the level (--tiles), metres: the sun's shadows (2.4 m from 3.2 m) stay apart
 HEIGHT = 3.0          # storey height (floor top to ceiling underside)
 CORRIDOR_W = 2.4
 # Penetration depths into the floor / ceiling slabs, different per kind so hidden faces never coincide.
@@ -785,7 +786,7 @@ def quat_from_to(a, b):
     return [q[0] / n, q[1] / n, q[2] / n, q[3] / n]
 
 
-def write_gltf(path, nodes, meshes, extent, seed, clean=False):
+def write_gltf(path, nodes, meshes, extent, seed, clean=False, tiles=1):
     binary = bytearray()
     buffer_views, accessors, gltf_meshes = [], [], []
 
@@ -825,16 +826,31 @@ def write_gltf(path, nodes, meshes, extent, seed, clean=False):
 
     xmin, xmax, zmin, zmax, corridor_z = extent
     sun_dir = (0.35, -0.8, 0.48)
-    all_nodes = list(nodes)
+    if tiles > 1:
+        # Copies of the level's nodes under one node per tile (rows of ceil(sqrt(tiles)), TILE_GAP apart), sharing
+        # their meshes: more level with exactly the same content per square metre.
+        per_row = math.ceil(math.sqrt(tiles))
+        all_nodes, roots = [], []
+        for t in range(tiles):
+            first = len(all_nodes)
+            all_nodes += [dict(n, name="%s_t%d" % (n["name"], t)) for n in nodes]
+            all_nodes.append({"name": "tile_%d" % t, "children": list(range(first, first + len(nodes))),
+                              "translation": [(t % per_row) * (xmax - xmin + TILE_GAP), 0.0,
+                                              (t // per_row) * (zmax - zmin + TILE_GAP)]})
+            roots.append(len(all_nodes) - 1)
+    else:
+        all_nodes = list(nodes)
+        roots = list(range(len(all_nodes)))
     all_nodes.append({"name": "sun", "rotation": quat_from_to((0, 0, -1), sun_dir),
                       "extensions": {"KHR_lights_punctual": {"light": 0}}})
     # The camera stands at the west end of the first corridor, looking east (-Z of the camera node = +X).
     all_nodes.append({"name": "camera", "camera": 0, "translation": [xmin + 1.0, 1.7, corridor_z],
                       "rotation": quat_from_to((0, 0, -1), (1, 0, 0))})
-    scene_nodes = list(range(len(all_nodes)))
+    scene_nodes = roots + [len(all_nodes) - 2, len(all_nodes) - 1]
     bin_name = os.path.splitext(os.path.basename(path))[0] + ".bin"
     doc = {
-        "asset": {"version": "2.0", "generator": "hemibake examples/generate_level.py (seed %d%s)" % (seed, ", clean" if clean else "")},
+        "asset": {"version": "2.0", "generator": "hemibake examples/generate_level.py (seed %d%s%s)" % (
+            seed, ", clean" if clean else "", ", %d tiles" % tiles if tiles > 1 else "")},
         "extensionsUsed": ["KHR_lights_punctual", "KHR_materials_emissive_strength"],
         "extensions": {"KHR_lights_punctual": {"lights": [{"name": "sun", "type": "directional", "color": [1.0, 0.96, 0.9], "intensity": 40.0}]}},
         "scene": 0,
@@ -867,14 +883,21 @@ def main():
     ap.add_argument("--clean", action="store_true",
                     help="parts meet without overlapping (no face under or through a solid, none sharing area); "
                          "for judging a baker's convergence apart from leaks (see below)")
+    ap.add_argument("--tiles", type=int, default=1,
+                    help="that many copies of the level side by side, 10 m apart (rows of ceil(sqrt(N))), sharing "
+                         "their meshes: a bigger level with exactly the same content per square metre, to measure "
+                         "how a baker's cost grows with the level's size alone")
     args = ap.parse_args()
+    if args.tiles < 1:
+        ap.error("--tiles must be at least 1")
     if not args.clean:
         nodes, meshes, extent, triangles = generate(args.seed, args.triangles, args.uniform)
-        write_gltf(args.output, nodes, meshes, extent, args.seed)
-        print("%s: %d triangles, %d nodes, %.1f x %.1f m" % (args.output, triangles, len(nodes), extent[1] - extent[0], extent[3] - extent[2]))
+        write_gltf(args.output, nodes, meshes, extent, args.seed, tiles=args.tiles)
+        print("%s: %d triangles, %d nodes, %.1f x %.1f m%s" % (args.output, triangles * args.tiles, len(nodes), extent[1] - extent[0],
+                                                        extent[3] - extent[2], " a tile, %d tiles" % args.tiles if args.tiles > 1 else ""))
         return
     nodes, meshes, extent, triangles, stats = generate_clean(args.seed, args.triangles, args.uniform)
-    write_gltf(args.output, nodes, meshes, extent, args.seed, clean=True)
+    write_gltf(args.output, nodes, meshes, extent, args.seed, clean=True, tiles=args.tiles)
     pts = [p for _, mb in meshes for pos, _, _ in mb.groups.values() for p in pos]
     lo, hi = [min(p[k] for p in pts) for k in range(3)], [max(p[k] for p in pts) for k in range(3)]
     print("%s: %d triangles, %d nodes, bounds (%.2f %.2f %.2f)-(%.2f %.2f %.2f) m" % (args.output, triangles, len(nodes), *lo, *hi))

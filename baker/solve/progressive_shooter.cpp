@@ -563,7 +563,7 @@ std::vector<glm::dvec3> ProgressiveShooter::pendingIrradiance(std::size_t* unkno
     return pending;
 }
 
-ProgressiveShooter::LocalBound ProgressiveShooter::localBound(double epsilon) const {
+ProgressiveShooter::LocalBound ProgressiveShooter::localBound(double epsilon, bool quantiles) const {
     const ElementArrays& el = mesh_.elements;
     const PatchArrays& pa = mesh_.patches;
     LocalBound bound;
@@ -592,20 +592,24 @@ ProgressiveShooter::LocalBound ProgressiveShooter::localBound(double epsilon) co
         const double have = channelSum(solution_.irradiance[e]);
         relative[e] = have > 0.0 ? bounces * pending[e] / have : std::numeric_limits<double>::infinity();
     }
-    std::vector<std::uint32_t> order(el.size());
-    for (std::uint32_t e = 0; e < order.size(); ++e) order[e] = e;
-    std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return relative[a] < relative[b]; });
-    double totalArea = 0.0;
-    for (double a : el.areaM2) totalArea += a;
-    double area = 0.0;
-    for (std::uint32_t e : order) {
-        area += el.areaM2[e];
-        if (bound.median == 0.0 && area >= 0.5 * totalArea) bound.median = relative[e];
-        if (bound.p95 == 0.0 && area >= 0.95 * totalArea) bound.p95 = relative[e];
-    }
-    bound.max = order.empty() ? 0.0 : relative[order.back()];
+    for (double r : relative) bound.max = std::max(bound.max, r);
     for (std::uint32_t p : unshot)
         if (!shotOnce_[p]) bound.max = std::numeric_limits<double>::infinity();
+    // The area-weighted median and p95 are reported, not used to decide: sorted only for a bound that may be the
+    // last (a level's 40-odd rounds sorted every element each time).
+    if (quantiles || bound.max <= epsilon) {
+        std::vector<std::uint32_t> order(el.size());
+        for (std::uint32_t e = 0; e < order.size(); ++e) order[e] = e;
+        std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return relative[a] < relative[b]; });
+        double totalArea = 0.0;
+        for (double a : el.areaM2) totalArea += a;
+        double area = 0.0;
+        for (std::uint32_t e : order) {
+            area += el.areaM2[e];
+            if (bound.median == 0.0 && area >= 0.5 * totalArea) bound.median = relative[e];
+            if (bound.p95 == 0.0 && area >= 0.95 * totalArea) bound.p95 = relative[e];
+        }
+    }
     if (bound.max <= epsilon) return bound;
     // The least irradiance among the elements still over the bound: where an uncached patch's ΔB_p weighs most.
     double leastHave = std::numeric_limits<double>::infinity();
@@ -727,7 +731,7 @@ std::string ProgressiveShooter::run(ConvergenceHistory& history, const Progress&
     // Then locally: the patches whose unshot light is still a sizeable part of what some element has.
     while (reason.empty()) {
         const Stopwatch boundClock;
-        finalBound_ = localBound(settings_.epsilon);
+        finalBound_ = localBound(settings_.epsilon, /*quantiles=*/false);
         ledger_.localBoundSeconds += boundClock.seconds();
         ++ledger_.localRounds;
         localPhase = true;

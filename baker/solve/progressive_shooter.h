@@ -63,7 +63,9 @@ public:
         std::size_t unknownPatches = 0;              // unshot patches without a row
         std::vector<std::uint32_t> worstPatches;     // what to shoot next: its own share of the worst bound first
     };
-    LocalBound localBound(double epsilon) const;
+    // `quantiles` false: median and p95 stay 0 unless max ≤ epsilon (they need a sort of every element; the
+    // rounds before the last only use max and worstPatches). Not thread-safe against a running shoot.
+    LocalBound localBound(double epsilon, bool quantiles = true) const;
 
     using Progress = std::function<void(const ConvergenceRecord&)>;
     // Shoots the largest unshot power until it is ≤ epsilon × injected power, then the patches that decide the
