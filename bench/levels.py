@@ -131,10 +131,10 @@ def bake_rows(a, level, name, gltf, density, reference, save):
     """A row per preset and variant: time, memory, what was drawn and traced; scored against `reference` if given."""
     base = os.path.dirname(gltf)
     layout = os.path.join(base, "layout")
-    bakes = [(preset, ["--preset", preset]) for preset in a.presets]
+    bakes = [(preset, ["--preset", preset] + a.bake_args.split()) for preset in a.presets]
     for variant in a.variant:
         label, _, args = variant.partition("=")
-        bakes.append((label, args.split()))
+        bakes.append((label, args.split() + a.bake_args.split()))
     for preset, args in bakes:
         key = f"bake {preset}"
         if key in level["rows"]:
@@ -376,6 +376,9 @@ def main():
     ap.add_argument("--presets", nargs="+", default=["draft", "medium", "high", "ultra"])
     ap.add_argument("--variant", action="append", default=[], metavar="LABEL=ARGS",
                     help="an extra bake row, e.g. 'medium, interpolate=--preset medium --texel-mode interpolate'")
+    ap.add_argument("--bake-args", default="", metavar="ARGS",
+                    help="added to every bake, e.g. '--max-ray-traced-emitters 8192' for a level with more emitter "
+                         "triangles than the default limit (its emitters would shoot through rows and warn)")
     ap.add_argument("--spp", nargs="+", type=int, default=[16, 64, 256, 1024])
     ap.add_argument("--reference-spp", type=int, default=4096)
     ap.add_argument("--texels-per-unit", type=float, default=16.0)
