@@ -900,7 +900,8 @@ def main():
     write_gltf(args.output, nodes, meshes, extent, args.seed, clean=True, tiles=args.tiles)
     pts = [p for _, mb in meshes for pos, _, _ in mb.groups.values() for p in pos]
     lo, hi = [min(p[k] for p in pts) for k in range(3)], [max(p[k] for p in pts) for k in range(3)]
-    print("%s: %d triangles, %d nodes, bounds (%.2f %.2f %.2f)-(%.2f %.2f %.2f) m" % (args.output, triangles, len(nodes), *lo, *hi))
+    print("%s: %d triangles, %d nodes, bounds (%.2f %.2f %.2f)-(%.2f %.2f %.2f) m%s" % (
+        args.output, triangles * args.tiles, len(nodes), *lo, *hi, " a tile, %d tiles" % args.tiles if args.tiles > 1 else ""))
     print("  %d rooms (%d with panels), %d corridors, %d windows, %d doorways, %d panels" % (
         stats["rooms"], stats["rooms_with_panels"], stats["corridors"], stats["windows"], stats["doorways"], stats["panels"]))
 
