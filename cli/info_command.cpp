@@ -8,6 +8,7 @@
 #include "cli/command.h"
 #include "mesh/gltf_loader.h"
 #include "mesh/subdivision.h"
+#include "cli/json_vectors.h"
 
 namespace hemibake::cli {
 
@@ -19,8 +20,6 @@ struct InfoOptions {
     SubdivisionSettings subdivision;
 };
 
-nlohmann::json vec(const glm::dvec3& v) { return {v.x, v.y, v.z}; }
-nlohmann::json vec(const glm::vec3& v) { return {v.x, v.y, v.z}; }
 
 const char* lightTypeName(LightType t) {
     switch (t) {
@@ -44,9 +43,9 @@ nlohmann::json describe(const Scene& scene, const SubdivisionSettings& settings)
     j["materials"] = nlohmann::json::array();
     for (const Material& m : scene.materials)
         j["materials"].push_back({{"name", m.name},
-                                  {"reflectance", vec(m.reflectanceFactor)},
+                                  {"reflectance", jsonVec(m.reflectanceFactor)},
                                   {"textured", m.reflectanceTexture >= 0},
-                                  {"emittedRadiance", vec(m.emittedRadiance)},
+                                  {"emittedRadiance", jsonVec(m.emittedRadiance)},
                                   {"doubleSided", m.doubleSided}});
     j["emitters"] = nlohmann::json::array();
     for (const MeshInstance& inst : scene.instances) {
@@ -57,25 +56,25 @@ nlohmann::json describe(const Scene& scene, const SubdivisionSettings& settings)
         j["emitters"].push_back({{"node", inst.source.nodeName},
                                  {"material", m.name},
                                  {"areaM2", area},
-                                 {"emittedRadiance", vec(m.emittedRadiance)},
-                                 {"powerWatts", vec(M_PI * area * glm::dvec3(m.emittedRadiance))}});
+                                 {"emittedRadiance", jsonVec(m.emittedRadiance)},
+                                 {"powerWatts", jsonVec(M_PI * area * glm::dvec3(m.emittedRadiance))}});
     }
-    j["emittedPowerWatts"] = vec(scene.emittedPowerWatts());
+    j["emittedPowerWatts"] = jsonVec(scene.emittedPowerWatts());
     j["lights"] = nlohmann::json::array();
     for (const PunctualLight& l : scene.lights)
         j["lights"].push_back({{"name", l.name},
                                {"type", lightTypeName(l.type)},
-                               {"intensity", vec(l.intensity)},
-                               {"position", vec(l.position)},
-                               {"direction", vec(l.direction)}});
+                               {"intensity", jsonVec(l.intensity)},
+                               {"position", jsonVec(l.position)},
+                               {"direction", jsonVec(l.direction)}});
     j["cameras"] = nlohmann::json::array();
     for (const Camera& c : scene.cameras)
         j["cameras"].push_back({{"name", c.name},
-                                {"position", vec(c.position)},
-                                {"forward", vec(c.forward)},
+                                {"position", jsonVec(c.position)},
+                                {"forward", jsonVec(c.forward)},
                                 {"yfovRadians", c.yfovRadians}});
     const Bounds b = scene.bounds();
-    j["bounds"] = {{"min", vec(b.min)}, {"max", vec(b.max)}};
+    j["bounds"] = {{"min", jsonVec(b.min)}, {"max", jsonVec(b.max)}};
     j["surfaceAreaM2"] = scene.surfaceAreaM2();
     const SubdivisionStats s = countSubdivision(scene, settings);
     j["subdivision"] = {{"cutAlongSolids", settings.cutAlongSolids},

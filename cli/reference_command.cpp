@@ -25,6 +25,7 @@
 #include "cli/progress.h"
 #include "mesh/errors.h"
 #include "mesh/gltf_loader.h"
+#include "cli/json_vectors.h"
 
 namespace hemibake::cli {
 
@@ -48,7 +49,6 @@ struct ReferenceOptions {
     bool progress = false;
 };
 
-nlohmann::json vec(const glm::dvec3& v) { return {v.x, v.y, v.z}; }
 
 // Command-line consistency that CLI11's needs/excludes cannot express; a violation is exit 2.
 void validate(const ReferenceOptions& o) {
@@ -90,7 +90,7 @@ nlohmann::json statusJson(const ProgressiveStatus& s, const ReferenceOptions& o,
             {"seed", tracer.seed},
             {"settings",
              {{"timeLimitSeconds", o.timeLimitSeconds},
-              {"skyRadiance", vec(glm::dvec3(tracer.skyRadiance))},
+              {"skyRadiance", jsonVec(glm::dvec3(tracer.skyRadiance))},
               {"sunAngularDiameterRad", tracer.sunAngularDiameterRad},
               {"maxDepth", tracer.maxDepth},
               {"rouletteDepth", tracer.rouletteDepth},
@@ -146,16 +146,16 @@ int runCamera(const ReferenceOptions& o, ProgressLine& progress) {
         j["mode"] = "camera";
         j["scene"] = o.scenePath;
         j["camera"] = {{"name", camera.name},
-                       {"position", vec(camera.position)},
-                       {"forward", vec(glm::dvec3(camera.forward))},
-                       {"up", vec(glm::dvec3(camera.up))},
+                       {"position", jsonVec(camera.position)},
+                       {"forward", jsonVec(glm::dvec3(camera.forward))},
+                       {"up", jsonVec(glm::dvec3(camera.up))},
                        {"yfovRadians", camera.yfovRadians}};
         j["width"] = width;
         j["height"] = height;
         j["files"] = {{"radiance", image.string()}, {"standardError", errorImage.string()}, {"preview", preview.string()}};
         // The image mean and its standard error (pixels are independent estimates).
-        j["imageMean"] = vec(sum / n);
-        j["imageMeanStandardError"] = vec(glm::sqrt(sumVariance) / n);
+        j["imageMean"] = jsonVec(sum / n);
+        j["imageMeanStandardError"] = jsonVec(glm::sqrt(sumVariance) / n);
         j["previewExposure"] = exposure;
         std::cout << j.dump(2) << "\n";
     } else {
@@ -215,8 +215,8 @@ int runTexels(const ReferenceOptions& o, ProgressLine& progress) {
                      {"standardErrorSuffix", kStandardErrorExtension}};
     j["texels"] = points.size();
     const double n = double(std::max<std::size_t>(points.size(), 1));
-    j["meanIrradianceOverPi"] = vec(sum / n);
-    j["meanStandardError"] = vec(sumError / n);  // per texel, averaged
+    j["meanIrradianceOverPi"] = jsonVec(sum / n);
+    j["meanStandardError"] = jsonVec(sumError / n);  // per texel, averaged
     j["primitives"] = layout.report.value("primitives", nlohmann::json::array());
     writeTextAtomically(refDir / "reference.json", j.dump(2) + "\n");
     if (o.json)

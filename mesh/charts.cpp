@@ -1,4 +1,5 @@
 #include "mesh/charts.h"
+#include "mesh/surface_mesh.h"
 
 #include <algorithm>
 #include <cmath>
@@ -16,7 +17,6 @@ namespace {
 using HalfedgeHandle = SurfaceMesh::HalfedgeHandle;
 using FaceHandle = SurfaceMesh::FaceHandle;
 
-glm::dvec3 toGlm(const OpenMesh::Vec3d& p) { return {p[0], p[1], p[2]}; }
 
 std::array<HalfedgeHandle, 3> faceHalfedges(const SurfaceMesh& mesh, int f) {
     const HalfedgeHandle h0 = mesh.halfedge_handle(FaceHandle(f));

@@ -9,6 +9,9 @@
 
 namespace hemibake {
 
+// The z component of the 2-D cross product: twice the signed area of the triangle (0, a, b).
+inline double cross2(const glm::dvec2& a, const glm::dvec2& b) { return a.x * b.y - a.y * b.x; }
+
 // Index (0 = x, 1 = y, 2 = z) of v's largest component, ties to the first: the axis a box is longest along.
 inline int largestComponent(const glm::dvec3& v) { return v.x >= v.y && v.x >= v.z ? 0 : (v.y >= v.z ? 1 : 2); }
 

@@ -1,4 +1,5 @@
 #include "mesh/pack.h"
+#include "mesh/frame_math.h"
 
 #include <algorithm>
 #include <limits>
@@ -46,7 +47,6 @@ struct Prepared {
     Footprint fp[4];
 };
 
-double cross2(const glm::dvec2& a, const glm::dvec2& b) { return a.x * b.y - a.y * b.x; }
 
 std::vector<glm::dvec2> convexHull(std::vector<glm::dvec2> pts) {
     std::sort(pts.begin(), pts.end(), [](const glm::dvec2& a, const glm::dvec2& b) { return a.x < b.x || (a.x == b.x && a.y < b.y); });

@@ -1,4 +1,5 @@
 #include "mesh/parameterize.h"
+#include "mesh/frame_math.h"
 
 #include <algorithm>
 #include <cmath>
@@ -17,7 +18,6 @@ glm::dvec3 point(const SurfaceMesh& mesh, int v) {
     return {p[0], p[1], p[2]};
 }
 
-double cross2(const glm::dvec2& a, const glm::dvec2& b) { return a.x * b.y - a.y * b.x; }
 
 // An orthonormal basis (t, b) of the plane with normal n, with t × b = n.
 void planeBasis(const glm::dvec3& n, glm::dvec3& t, glm::dvec3& b) {

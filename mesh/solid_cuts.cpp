@@ -8,12 +8,12 @@
 
 #include "mesh/cell_key.h"
 #include "mesh/union_find.h"
+#include "mesh/surface_mesh.h"
 
 namespace hemibake {
 
 namespace {
 
-glm::dvec3 toGlm(const OpenMesh::Vec3d& p) { return {p[0], p[1], p[2]}; }
 
 struct PositionLess {
     bool operator()(const glm::dvec3& a, const glm::dvec3& b) const {

@@ -15,12 +15,12 @@
 #include "mesh/errors.h"
 #include "mesh/solid_cuts.h"
 #include "mesh/union_find.h"
+#include "mesh/surface_mesh.h"
 
 namespace hemibake {
 
 namespace {
 
-glm::dvec3 toGlm(const OpenMesh::Vec3d& p) { return {p[0], p[1], p[2]}; }
 
 double emitterPatchSize(const SubdivisionSettings& s) {
     // Emitters shoot first and at close range; a quarter of the patch size keeps the proximity error of a

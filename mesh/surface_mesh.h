@@ -2,6 +2,7 @@
 // The editing structure for one baked surface: an OpenMesh triangle mesh in world space (double precision,
 // so scenes far from the origin keep their millimetres), with the attributes the later stages need.
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+#include <glm/glm.hpp>
 
 namespace hemibake {
 
@@ -16,6 +17,8 @@ struct SurfaceMeshTraits : public OpenMesh::DefaultTraits {
 };
 
 using TriMesh = OpenMesh::TriMesh_ArrayKernelT<SurfaceMeshTraits>;
+
+inline glm::dvec3 toGlm(const OpenMesh::Vec3d& p) { return {p[0], p[1], p[2]}; }
 
 // Per-vertex lightmap UV (TEXCOORD_1) and per-face material/instance ids live in named properties so that
 // OpenMesh's split/copy operations carry them along.

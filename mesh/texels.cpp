@@ -1,4 +1,5 @@
 #include "mesh/texels.h"
+#include "mesh/frame_math.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +9,6 @@ namespace hemibake {
 
 namespace {
 
-double cross2(const glm::dvec2& a, const glm::dvec2& b) { return a.x * b.y - a.y * b.x; }
 
 // Closest point of triangle abc to p: barycentric weights and squared distance (0 inside).
 void closestPoint(const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& c, const glm::dvec2& p, glm::dvec3& bary,

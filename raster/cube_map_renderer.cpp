@@ -13,7 +13,7 @@ namespace {
 // are pushed back by 2^-20 of their depth so the side facing the eye wins ties between the two sides of a
 // double-sided surface. The vector to the eye is interpolated (it is affine in the triangle, so the
 // perspective-correct interpolation is exact) to give each texel its hit distance.
-const char* kVertexShader = R"(#version 330 core
+const char* kCubeMapVertexShader = R"(#version 330 core
 layout(location = 0) in vec3 positionRelOrigin;
 layout(location = 1) in uint elementId;
 layout(location = 2) in vec3 elementNormal;
@@ -32,7 +32,7 @@ void main() {
 }
 )";
 
-const char* kFragmentShader = R"(#version 330 core
+const char* kCubeMapFragmentShader = R"(#version 330 core
 flat in uint element;
 in vec3 fromEye;
 uniform samplerBuffer elementRadiance;
@@ -89,7 +89,7 @@ CubeMapRenderer::CubeMapRenderer(const SceneBuffers& scene, int resolution)
         throw GlError("CubeMapRenderer: atlas framebuffer " + std::to_string(width) + "x" + std::to_string(height) +
                       " incomplete (status " + std::to_string(status) + ")");
 
-    program_ = compileProgram(context, "cube map radiance", kVertexShader, kFragmentShader);
+    program_ = compileProgram(context, "cube map radiance", kCubeMapVertexShader, kCubeMapFragmentShader);
     eyeUniform_ = gl.GetUniformLocation(program_.id(), "eyeRelOrigin");
     faceRowsUniform_ = gl.GetUniformLocation(program_.id(), "faceRows");
     nearUniform_ = gl.GetUniformLocation(program_.id(), "nearM");

@@ -18,7 +18,7 @@ namespace {
 // 2^-20 of its depth (16 float ulps), so the side facing the eye wins regardless of draw order. Done in the
 // vertex stage from the element normal: writing gl_FragDepth instead disables llvmpipe's early depth test and
 // costs ~30 % of a 10k-triangle hemicube.
-const char* kVertexShader = R"(#version 330 core
+const char* kHemicubeVertexShader = R"(#version 330 core
 layout(location = 0) in vec3 positionRelOrigin;
 layout(location = 1) in uint elementId;
 layout(location = 2) in vec3 elementNormal;
@@ -138,8 +138,8 @@ HemicubeRenderer::HemicubeRenderer(const SceneBuffers& scene, int resolution, co
         throw GlError("HemicubeRenderer: atlas framebuffer " + std::to_string(width) + "x" + std::to_string(height) +
                       " incomplete (status " + std::to_string(status) + ")");
 
-    itemProgram_ = compileProgram(context, "hemicube item buffer", kVertexShader, kItemFragmentShader);
-    radianceProgram_ = compileProgram(context, "hemicube radiance buffer", kVertexShader, kRadianceFragmentShader);
+    itemProgram_ = compileProgram(context, "hemicube item buffer", kHemicubeVertexShader, kItemFragmentShader);
+    radianceProgram_ = compileProgram(context, "hemicube radiance buffer", kHemicubeVertexShader, kRadianceFragmentShader);
     auto locate = [&](const GlObject& program) {
         Uniforms u;
         u.eye = gl.GetUniformLocation(program.id(), "eyeRelOrigin");

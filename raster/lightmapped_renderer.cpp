@@ -12,7 +12,7 @@ namespace hemibake {
 namespace {
 
 // Same reversed-Z projection as the hemicube: clip.z = near, clip.w = distance along the view axis.
-const char* kVertexShader = R"(#version 330 core
+const char* kLightmappedVertexShader = R"(#version 330 core
 layout(location = 0) in vec3 positionRelEye;
 layout(location = 1) in vec2 lightmapUv;
 uniform mat3 viewRows;        // rows: right, up, forward
@@ -26,7 +26,7 @@ void main() {
 }
 )";
 
-const char* kFragmentShader = R"(#version 330 core
+const char* kLightmappedFragmentShader = R"(#version 330 core
 in vec2 uv;
 uniform sampler2D radianceAtlas;
 uniform bool doubleSided;
@@ -73,7 +73,7 @@ std::vector<glm::vec3> renderLightmapped(const GlContext& context, const std::ve
                       " float framebuffer is incomplete");
     gl.check("renderLightmapped: framebuffer");
 
-    const GlObject program = compileProgram(context, "lightmapped view", kVertexShader, kFragmentShader);
+    const GlObject program = compileProgram(context, "lightmapped view", kLightmappedVertexShader, kLightmappedFragmentShader);
     gl.UseProgram(program.id());
     const float rows[9] = {float(right.x), float(up.x), float(forward.x),  // column-major: columns are x, y, z
                            float(right.y), float(up.y), float(forward.y),

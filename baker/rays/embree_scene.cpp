@@ -1,4 +1,5 @@
 #include "baker/rays/embree_scene.h"
+#include "mesh/surface_mesh.h"
 
 #include <algorithm>
 #include <cmath>
@@ -14,7 +15,6 @@ struct GeometryDeleter {
     void operator()(RTCGeometryTy* geometry) const { rtcReleaseGeometry(geometry); }
 };
 
-glm::dvec3 toGlm(const OpenMesh::Vec3d& p) { return {p[0], p[1], p[2]}; }
 
 glm::dvec3 unitDirection(const glm::dvec3& dir) {
     const double length = glm::length(dir);

@@ -1,5 +1,6 @@
 // DirectLight: E/π from point, spot and directional lights against closed forms, hard and soft shadows, and the
 // element means used by the baker.
+#include <numbers>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -12,7 +13,6 @@ using namespace hemibake;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 // A square floor at y = 0 facing +y, half-size `half`.
 void addFloor(SceneBuilder& b, int material, double half) {
@@ -46,7 +46,7 @@ TEST(DirectLight, PointLightFollowsInverseSquareAndCosine) {
     for (const glm::dvec3 p : {glm::dvec3(0, 0, 0), glm::dvec3(1.5, 0, -2), glm::dvec3(-4, 0, 3), glm::dvec3(7, 0, 7)}) {
         const double d = glm::length(lightPos - p);
         const double cosTheta = lightPos.y / d;
-        const glm::dvec3 expected = glm::dvec3(intensity) * cosTheta / (kPi * d * d);
+        const glm::dvec3 expected = glm::dvec3(intensity) * cosTheta / (std::numbers::pi * d * d);
         expectRelative(direct.irradianceOverPiAt(p, {0, 1, 0}, 0), expected, 1e-6, "point light");
     }
     // Facing away from the light (the underside): nothing.
@@ -69,7 +69,7 @@ TEST(DirectLight, BlockerCastsAnExactShadow) {
         EXPECT_EQ(direct.irradianceOverPiAt(p, {0, 1, 0}, 0), glm::dvec3(0.0));
     const glm::dvec3 lit(1.2, 0, 0);
     const double d = glm::length(glm::dvec3(0, 2, 0) - lit);
-    expectRelative(direct.irradianceOverPiAt(lit, {0, 1, 0}, 0), glm::dvec3(intensity) * (2.0 / d) / (kPi * d * d), 1e-6, "lit");
+    expectRelative(direct.irradianceOverPiAt(lit, {0, 1, 0}, 0), glm::dvec3(intensity) * (2.0 / d) / (std::numbers::pi * d * d), 1e-6, "lit");
 }
 
 TEST(DirectLight, ShadowHoldsAtAPointTouchingTheBlocker) {
@@ -88,7 +88,7 @@ TEST(DirectLight, ShadowHoldsAtAPointTouchingTheBlocker) {
     EXPECT_EQ(direct.irradianceOverPiAt({0.5, 0, 0.3}, {0, 1, 0}, 0), glm::dvec3(0.0));
     const glm::dvec3 lit(5, 0, 0);  // its ray to the light clears the wall at y = 5/6
     const double d = glm::length(glm::dvec3(-1, 1, 0) - lit);
-    expectRelative(direct.irradianceOverPiAt(lit, {0, 1, 0}, 0), glm::dvec3(intensity) * (1.0 / d) / (kPi * d * d), 1e-6, "lit");
+    expectRelative(direct.irradianceOverPiAt(lit, {0, 1, 0}, 0), glm::dvec3(intensity) * (1.0 / d) / (std::numbers::pi * d * d), 1e-6, "lit");
 }
 
 TEST(DirectLight, SpotConeFallsOffBetweenInnerAndOuterAngles) {
@@ -97,7 +97,7 @@ TEST(DirectLight, SpotConeFallsOffBetweenInnerAndOuterAngles) {
     PunctualLight spot = pointLight({0, 2, 0}, glm::vec3(8.0f, 6.0f, 2.0f));
     spot.type = LightType::Spot;
     spot.direction = {0, -1, 0};
-    const double inner = 20.0 * kPi / 180.0, outer = 30.0 * kPi / 180.0;
+    const double inner = 20.0 * std::numbers::pi / 180.0, outer = 30.0 * std::numbers::pi / 180.0;
     spot.innerConeAngle = float(inner);
     spot.outerConeAngle = float(outer);
     b.addLight(spot);
@@ -107,19 +107,19 @@ TEST(DirectLight, SpotConeFallsOffBetweenInnerAndOuterAngles) {
 
     auto unattenuated = [&](double angle) {
         const double d = 2.0 / std::cos(angle);
-        return glm::dvec3(spot.intensity) * std::cos(angle) / (kPi * d * d);
+        return glm::dvec3(spot.intensity) * std::cos(angle) / (std::numbers::pi * d * d);
     };
     auto at = [&](double angleDeg) {
-        const double angle = angleDeg * kPi / 180.0;
+        const double angle = angleDeg * std::numbers::pi / 180.0;
         return direct.irradianceOverPiAt({2.0 * std::tan(angle), 0, 0}, {0, 1, 0}, 0);
     };
     expectRelative(at(0.0), unattenuated(0.0), 1e-6, "axis");
-    expectRelative(at(10.0), unattenuated(10.0 * kPi / 180.0), 1e-6, "inside the inner cone");
-    expectRelative(at(19.5), unattenuated(19.5 * kPi / 180.0), 1e-6, "just inside the inner cone");
+    expectRelative(at(10.0), unattenuated(10.0 * std::numbers::pi / 180.0), 1e-6, "inside the inner cone");
+    expectRelative(at(19.5), unattenuated(19.5 * std::numbers::pi / 180.0), 1e-6, "just inside the inner cone");
     EXPECT_EQ(at(30.5), glm::dvec3(0.0));
     EXPECT_EQ(at(45.0), glm::dvec3(0.0));
     // Between the cones: KHR's (cos − cos outer)/(cos inner − cos outer), clamped and squared (float cone angles).
-    const double angle = 25.0 * kPi / 180.0;
+    const double angle = 25.0 * std::numbers::pi / 180.0;
     const double t = (std::cos(angle) - std::cos(double(spot.outerConeAngle))) /
                      (std::cos(double(spot.innerConeAngle)) - std::cos(double(spot.outerConeAngle)));
     const glm::dvec3 between = at(25.0);
@@ -141,11 +141,11 @@ TEST(DirectLight, DirectionalLightGivesIntensityTimesCosine) {
     const DirectLight direct(scene, rays, {});
     const glm::dvec3 toSun = -glm::dvec3(sun.direction);
 
-    expectRelative(direct.irradianceOverPiAt({2, 0, -3}, {0, 1, 0}, 0), glm::dvec3(sun.intensity) * toSun.y / kPi, 1e-6, "floor");
+    expectRelative(direct.irradianceOverPiAt({2, 0, -3}, {0, 1, 0}, 0), glm::dvec3(sun.intensity) * toSun.y / std::numbers::pi, 1e-6, "floor");
     for (const glm::vec3 n : {glm::normalize(glm::vec3(1, 1, 0)), glm::normalize(glm::vec3(0.2f, 0.3f, 1.0f)), glm::vec3(1, 0, 0)}) {
         const double cosTheta = glm::dot(glm::dvec3(n), toSun);
         ASSERT_GT(cosTheta, 0.0);
-        expectRelative(direct.irradianceOverPiAt({0, 0.5, 0}, n, 7), glm::dvec3(sun.intensity) * cosTheta / kPi, 1e-6, "tilted");
+        expectRelative(direct.irradianceOverPiAt({0, 0.5, 0}, n, 7), glm::dvec3(sun.intensity) * cosTheta / std::numbers::pi, 1e-6, "tilted");
     }
     EXPECT_EQ(direct.irradianceOverPiAt({0, 0.5, 0}, glm::normalize(glm::vec3(-1, -1, 0)), 0), glm::dvec3(0.0));
 }
@@ -167,7 +167,7 @@ TEST(DirectLight, SoftSunKeepsUnoccludedIrradianceAndBlursTheShadowEdge) {
     softSettings.sunAngularDiameterRad = 0.1f;  // penumbra ±5 cm wide under a roof 1 m up
     softSettings.sunSamples = 64;
     const DirectLight soft(scene, rays, softSettings);
-    const double full = 5.0 / kPi;
+    const double full = 5.0 / std::numbers::pi;
 
     const glm::dvec3 open(2, 0, 0);
     EXPECT_EQ(soft.irradianceOverPiAt(open, {0, 1, 0}, 3), hard.irradianceOverPiAt(open, {0, 1, 0}, 3));
@@ -200,7 +200,7 @@ TEST(DirectLight, ElementMeansIntegrateTheFluxOnAFloor) {
     for (std::size_t e = 0; e < values.size(); ++e) fluxOverPi += values[e].x * patches.elements.areaM2[e];
     // Flux onto the 4 m × 4 m floor = I·Ω, Ω = 4·asin(ab / sqrt((a² + h²)(b² + h²))) with half-sides a = b = 2.
     const double solidAngle = 4.0 * std::asin(4.0 / std::sqrt(5.0 * 5.0));
-    EXPECT_NEAR(fluxOverPi, intensity * solidAngle / kPi, 2e-4 * intensity * solidAngle / kPi);
+    EXPECT_NEAR(fluxOverPi, intensity * solidAngle / std::numbers::pi, 2e-4 * intensity * solidAngle / std::numbers::pi);
 
     // One sample per element is the centroid; the parallel sweep equals element-by-element calls.
     for (std::size_t e : {std::size_t(0), values.size() / 2, values.size() - 1}) {

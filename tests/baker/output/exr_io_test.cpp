@@ -12,6 +12,7 @@
 #include "baker/output/png_preview.h"
 #include "mesh/errors.h"
 #include "support/gltf_fixture.h"
+#include "support/srgb_reference.h"
 
 namespace hemibake {
 namespace {
@@ -19,12 +20,6 @@ namespace {
 namespace fs = std::filesystem;
 using test::TempDir;
 
-// An independent sRGB encoder (IEC 61966-2-1) for checking the PNGs.
-int srgb8(double linear) {
-    linear = std::clamp(linear, 0.0, 1.0);
-    const double c = linear <= 0.0031308 ? 12.92 * linear : 1.055 * std::pow(linear, 1.0 / 2.4) - 0.055;
-    return int(std::lround(c * 255.0));
-}
 
 LightmapImage patternImage(int size) {
     LightmapImage image;
@@ -170,7 +165,7 @@ TEST(PngPreview, PercentileIsNearestRankOverNonEmptyTexels) {
 
 TEST(PngPreview, SrgbEncodingMatchesTheStandard) {
     for (double v : {0.0, 0.001, 0.0031308, 0.01, 0.18, 0.5, 0.99, 1.0, 2.0})
-        EXPECT_EQ(int(linearToSrgb8(float(v))), srgb8(v)) << v;
+        EXPECT_EQ(int(linearToSrgb8(float(v))), test::srgb8(v)) << v;
     EXPECT_EQ(linearToSrgb8(std::nanf("")), 0);
     EXPECT_EQ(linearToSrgb8(-1.0f), 0);
     for (int i = 0; i < 256; ++i) EXPECT_EQ(linearToSrgb8(srgb8ToLinear(std::uint8_t(i))), i);
@@ -203,7 +198,7 @@ TEST(PngPreview, WritesAn8BitSrgbPngExposedToThe999thPercentile) {
     for (auto [x, y] : {std::pair{0, 0}, std::pair{5, 7}, std::pair{30, 2}, std::pair{39, 38}, std::pair{39, 39}})
         for (int c = 0; c < 3; ++c) {
             const std::size_t t = image.index(x, y);
-            const int expected = image.state[t] == TexelState::Empty ? 0 : srgb8(double(image.irradianceOverPi[t][c]) / double(k));
+            const int expected = image.state[t] == TexelState::Empty ? 0 : test::srgb8(double(image.irradianceOverPi[t][c]) / double(k));
             EXPECT_EQ(int(px[t * 3 + std::size_t(c)]), expected) << x << "," << y << " channel " << c;
         }
     EXPECT_EQ(filesIn(path.parent_path()), std::vector<fs::path>{"0.png"});

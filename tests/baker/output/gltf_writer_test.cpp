@@ -21,6 +21,7 @@
 #include "mesh/uv_atlas.h"
 #include "support/gltf_fixture.h"
 #include "support/gltf_validator.h"
+#include "support/srgb_reference.h"
 
 namespace hemibake {
 namespace {
@@ -29,11 +30,6 @@ namespace fs = std::filesystem;
 using test::GltfFixture;
 using test::TempDir;
 
-int srgb8(double linear) {
-    linear = std::clamp(linear, 0.0, 1.0);
-    const double c = linear <= 0.0031308 ? 12.92 * linear : 1.055 * std::pow(linear, 1.0 / 2.4) - 0.055;
-    return int(std::lround(c * 255.0));
-}
 
 // ---- the input scene -----------------------------------------------------------------------------------------
 
@@ -355,7 +351,7 @@ void expectEmissiveTexels(const tinygltf::Model& model, const Bake& b, const std
             const glm::vec3 value = rho * lm.irradianceOverPi[lm.index(x, y)] +
                                      b.scene.materials[std::size_t(b.scene.instances[std::size_t(i)].material)].emittedRadiance;
             for (int c = 0; c < 3; ++c)
-                EXPECT_NEAR(texel8(model, mat.emissiveTexture.index, x, y, c), srgb8(double(value[c]) / k), 1.0)
+                EXPECT_NEAR(texel8(model, mat.emissiveTexture.index, x, y, c), test::srgb8(double(value[c]) / k), 1.0)
                     << "texel " << x << "," << y << " channel " << c;
             ++checked;
         }
@@ -455,7 +451,7 @@ TEST(GltfWriter, LightmapModeWritesAValidGlbWithTexcoord1AndMozLightmap) {
                             std::pair{lm.size - 1, lm.size - 1}, std::pair{lm.size / 2, lm.size - 3}})
             for (int c = 0; c < 3; ++c) {
                 const std::size_t t = lm.index(x, y);
-                const int expected = lm.state[t] == TexelState::Empty ? 0 : srgb8(double(lm.irradianceOverPi[t][c]) / k);
+                const int expected = lm.state[t] == TexelState::Empty ? 0 : test::srgb8(double(lm.irradianceOverPi[t][c]) / k);
                 EXPECT_EQ(texel8(model, texture, x, y, c), expected) << "texel " << x << "," << y << " channel " << c;
             }
         // The material keeps its PBR data.

@@ -15,10 +15,9 @@ namespace {
 
 using test::TriangleSoup;
 
-constexpr double kPi = std::numbers::pi;
 
 glm::dvec3 tilted(double thetaDeg) {  // from +y (up) towards +x
-    const double t = thetaDeg * kPi / 180.0;
+    const double t = thetaDeg * std::numbers::pi / 180.0;
     return {std::sin(t), std::cos(t), 0.0};
 }
 
@@ -92,7 +91,7 @@ TEST(LightProbe, SkyOverBlackGroundGivesOnePlusCosOverTwo) {
     EXPECT_TRUE(p.valid);
     for (double theta : {0.0, 45.0, 90.0, 135.0}) {
         const glm::dvec3 e = p.sh.irradianceOverPi(tilted(theta));
-        const double exact = (1.0 + std::cos(theta * kPi / 180.0)) / 2.0;
+        const double exact = (1.0 + std::cos(theta * std::numbers::pi / 180.0)) / 2.0;
         std::printf("sky plane theta %5.1f: E/pi / L_sky = %.5f, exact %.5f, rel err %+.2e\n", theta, e.x / sky.x, exact,
                     e.x / sky.x / exact - 1.0);
         // The sky over a plane is band-limited in E (L1 exact); only the cube map's texel integration is left
@@ -121,7 +120,7 @@ TEST(LightProbe, EmissiveRectangleWithinTheL2ErrorBound) {
     const glm::dvec3 n(0, 0, 1);
     const double f = test::pointPolygonFormFactor(glm::dvec3(0.0), n, polygon);
     const double omega = polygonSolidAngle(glm::dvec3(0.0), polygon);
-    const double bound = 3.0 / 32.0 * omega / kPi;  // per unit L_e, in E/π units
+    const double bound = 3.0 / 32.0 * omega / std::numbers::pi;  // per unit L_e, in E/π units
     // The L2 value itself, by quadrature of the L2 kernel k(c) = (3 + 16c + 15c²)/32 over the rectangle: what a
     // perfect projection would give, so the rendering's own error shows separately from L2's.
     double l2 = 0.0;
@@ -131,7 +130,7 @@ TEST(LightProbe, EmissiveRectangleWithinTheL2ErrorBound) {
             const glm::dvec3 x(-a / 2 + a * (i + 0.5) / q, -b / 2 + b * (j + 0.5) / q, c);
             const double r2 = glm::dot(x, x), cosine = c / std::sqrt(r2);
             const double dOmega = (a / q) * (b / q) * cosine / r2;
-            l2 += (3.0 + 16.0 * cosine + 15.0 * cosine * cosine) / 32.0 * dOmega / kPi;
+            l2 += (3.0 + 16.0 * cosine + 15.0 * cosine * cosine) / 32.0 * dOmega / std::numbers::pi;
         }
     for (int ch = 0; ch < 3; ++ch) {
         const double e = p.sh.irradianceOverPi(n)[ch] / le[ch];

@@ -14,7 +14,6 @@
 namespace hemibake {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 
 CubeMapImage synthetic(int r, const std::function<glm::vec4(const glm::dvec3&)>& f) {
     CubeMapImage image;
@@ -36,7 +35,7 @@ TEST(CubeMapSolidAngle, TexelsSumToFourPi) {
     for (int r : {1, 2, 7, 32, 128}) {
         double sum = 0.0;
         for (double w : cubeFaceSolidAngles(r)) sum += w;
-        EXPECT_NEAR(6.0 * sum, 4.0 * kPi, 1e-12) << "R " << r;
+        EXPECT_NEAR(6.0 * sum, 4.0 * std::numbers::pi, 1e-12) << "R " << r;
     }
     // A corner texel is smaller than a centre texel by about (1 + 2)^{3/2} = 5.2 at fine resolution.
     const auto w = cubeFaceSolidAngles(64);
@@ -60,7 +59,7 @@ TEST(SphericalHarmonics, BasisConstantsAndOrder) {
 
 TEST(SphericalHarmonics, ConstantRadianceProjectsToL00Only) {
     const ShRgb sh = project(16, [](const glm::dvec3&) { return glm::vec4(2.0f, 1.0f, 0.5f, 1.0f); });
-    EXPECT_NEAR(sh.c[0].x, 2.0 * 2.0 * std::sqrt(kPi), 1e-12);
+    EXPECT_NEAR(sh.c[0].x, 2.0 * 2.0 * std::sqrt(std::numbers::pi), 1e-12);
     for (int k = 1; k < kShCoefficients; ++k) EXPECT_NEAR(glm::length(sh.c[std::size_t(k)]), 0.0, 1e-12) << k;
     EXPECT_NEAR(sh.irradianceOverPi(glm::normalize(glm::dvec3(-1, 3, 2))).y, 1.0, 1e-12);
 }
@@ -68,12 +67,12 @@ TEST(SphericalHarmonics, ConstantRadianceProjectsToL00Only) {
 // §6 test 1 with y up: L = 1 above the horizon. L00 = √π, L1-1 = √(3π)/2, E/π = (1 + cos θ)/2 exactly.
 TEST(SphericalHarmonics, UniformSkyIsExact) {
     const ShRgb sh = project(64, [](const glm::dvec3& d) { return glm::vec4(d.y > 0.0 ? 1.0f : 0.0f); });
-    EXPECT_NEAR(sh.c[0].x, std::sqrt(kPi), 1e-12);
-    EXPECT_NEAR(sh.c[1].x, std::sqrt(3.0 * kPi) / 2.0, 2e-4);  // the horizon row's texel quadrature
+    EXPECT_NEAR(sh.c[0].x, std::sqrt(std::numbers::pi), 1e-12);
+    EXPECT_NEAR(sh.c[1].x, std::sqrt(3.0 * std::numbers::pi) / 2.0, 2e-4);  // the horizon row's texel quadrature
     for (int k : {2, 3, 4, 5, 6, 7, 8}) EXPECT_NEAR(sh.c[std::size_t(k)].x, 0.0, 1e-12) << k;
     for (double deg : {0.0, 30.0, 45.0, 60.0, 90.0, 120.0, 150.0, 180.0}) {
-        const double t = deg * kPi / 180.0;
-        EXPECT_NEAR(sh.irradiance({std::sin(t), std::cos(t), 0.0}).x, kPi * (1.0 + std::cos(t)) / 2.0, 5e-4) << deg;
+        const double t = deg * std::numbers::pi / 180.0;
+        EXPECT_NEAR(sh.irradiance({std::sin(t), std::cos(t), 0.0}).x, std::numbers::pi * (1.0 + std::cos(t)) / 2.0, 5e-4) << deg;
     }
 }
 
@@ -85,7 +84,7 @@ TEST(SphericalHarmonics, DirectionalLightBandScaling) {
     const auto y = shBasis(d);
     for (int k = 0; k < kShCoefficients; ++k) sh.c[std::size_t(k)] = glm::dvec3(y[std::size_t(k)]);
     for (double deg : {0.0, 30.0, 60.0, 90.0, 122.2, 180.0}) {
-        const double c = std::cos(deg * kPi / 180.0);
+        const double c = std::cos(deg * std::numbers::pi / 180.0);
         // A normal at angle deg from d.
         const glm::dvec3 side = glm::normalize(glm::cross(d, glm::dvec3(1, 0, 0)));
         const glm::dvec3 n = c * d + std::sqrt(std::max(0.0, 1.0 - c * c)) * side;
@@ -101,7 +100,7 @@ TEST(SphericalHarmonics, DirectionalLightBandScaling) {
     EXPECT_NEAR(windowed.irradiance(d).x, 0.844, 1e-3);
     double minimum = 1e9;
     for (int k = 0; k <= 180; ++k) {
-        const double c = std::cos(k * kPi / 180.0);
+        const double c = std::cos(k * std::numbers::pi / 180.0);
         const glm::dvec3 side = glm::normalize(glm::cross(d, glm::dvec3(1, 0, 0)));
         minimum = std::min(minimum, windowed.irradiance(c * d + std::sqrt(std::max(0.0, 1.0 - c * c)) * side).x);
     }
@@ -115,7 +114,7 @@ TEST(SphericalHarmonics, WindowBiasOnUniformSky) {
     ShRgb sh = project(64, [](const glm::dvec3& d) { return glm::vec4(d.y > 0.0 ? 1.0f : 0.0f); });
     const glm::dvec3 w = shWindowWeights(ShWindow::Gaussian);
     sh.scaleBands(w);
-    EXPECT_NEAR(sh.irradiance({0, 1, 0}).x, (w.x + w.y) / 2.0 * kPi, 5e-4);
+    EXPECT_NEAR(sh.irradiance({0, 1, 0}).x, (w.x + w.y) / 2.0 * std::numbers::pi, 5e-4);
 }
 
 TEST(CubeMapMeasurement, FractionsAndDepthMoments) {
@@ -163,7 +162,7 @@ TEST(VolumeLookup, TrilinearAndValidity) {
     for (int z = 0; z < 2; ++z)
         for (int y = 0; y < 2; ++y)
             for (int x = 0; x < 3; ++x)  // constant radiance x + 1: E/π = x + 1 for every normal
-                v.sh[v.index(x, y, z)].c[0] = glm::dvec3(2.0 * std::sqrt(kPi) * (x + 1.0));
+                v.sh[v.index(x, y, z)].c[0] = glm::dvec3(2.0 * std::sqrt(std::numbers::pi) * (x + 1.0));
     VolumeLookupOptions tri;
     tri.weighting = VolumeWeighting::Trilinear;
     EXPECT_NEAR(sampleIrradianceVolume(v, {0.25, 0.3, 0.9}, {0, 1, 0}, tri).irradianceOverPi.x, 1.25, 1e-12);

@@ -1,5 +1,6 @@
 // PathTracer, the independent reference: furnace (GROUND_TRUTH §2.A), point → rectangle form factors (§1(d)),
 // Cornell box direct light (§5), punctual lights, one-sided emission, and reproducibility across thread counts.
+#include <numbers>
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -16,7 +17,6 @@ using namespace hemibake;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 // |mean − expected| within `sigmas` combined standard errors, per channel.
 void expectWithinSigmas(const Estimate& e, const glm::dvec3& expected, const glm::dvec3& expectedSigma, double sigmas,
@@ -32,13 +32,13 @@ void expectWithinSigmas(const Estimate& e, const glm::dvec3& expected, const glm
 double cornerParallelFormFactor(double a, double b, double c) {
     const double x = a / c, y = b / c;
     const double sx = std::sqrt(1 + x * x), sy = std::sqrt(1 + y * y);
-    return (x / sx * std::atan(y / sx) + y / sy * std::atan(x / sy)) / (2 * kPi);
+    return (x / sx * std::atan(y / sx) + y / sy * std::atan(x / sy)) / (2 * std::numbers::pi);
 }
 
 // GROUND_TRUTH §1(d), perpendicular: rectangle in y = c, x ∈ [0, a], z ∈ [0, b]; dA at the origin facing +z.
 double cornerPerpendicularFormFactor(double a, double b, double c) {
     const double r = std::sqrt(b * b + c * c);
-    return (std::atan(a / c) - c / r * std::atan(a / r)) / (2 * kPi);
+    return (std::atan(a / c) - c / r * std::atan(a / r)) / (2 * std::numbers::pi);
 }
 
 Scene furnace(glm::vec3 emitted, bool textured) {
@@ -133,7 +133,7 @@ TEST(PathTracer, TexturedReflectanceFollowsTheTexcoords) {
     const double expectedRho[4] = {0.6 - 0.4 * 0.75, 0.2 + 0.4 * 0.25, 0.2 + 0.4 * 0.75, 0.6 - 0.4 * 0.25};
     for (int y = 0; y < 4; ++y)
         for (int x = 0; x < 4; ++x) {
-            const double expected = expectedRho[x] * 3.0 / kPi;
+            const double expected = expectedRho[x] * 3.0 / std::numbers::pi;
             const double sigma = std::sqrt(double(image.varianceOfMean.at(x, y).x));
             EXPECT_NEAR(image.radiance.at(x, y).x, expected, 3.0 * sigma + 1e-5 * expected) << "pixel " << x << "," << y;
         }
@@ -210,12 +210,12 @@ TEST(PathTracer, PunctualLightsAreExactAndShadowed) {
     const glm::dvec3 p(1.0, 0.0, -0.5);  // lit by the point light only (the spot's cone ends at x ≈ 4.4)
     const double d = glm::length(point.position - p);
     const Estimate e = tracer.irradianceOverPi(p, {0, 1, 0}, 16, 0);
-    for (int c = 0; c < 3; ++c) EXPECT_NEAR(e.mean[c], point.intensity[c] * (2.0 / d) / (kPi * d * d), 1e-9 * e.mean[c]);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(e.mean[c], point.intensity[c] * (2.0 / d) / (std::numbers::pi * d * d), 1e-9 * e.mean[c]);
     EXPECT_EQ(e.standardError, glm::dvec3(0.0));
     // Under the blocker, the spot's light is shadowed: only the point light's remains.
     const glm::dvec3 q(5.0, 0.0, 0.0);
     const double dq = glm::length(point.position - q);
-    EXPECT_NEAR(tracer.irradianceOverPi(q, {0, 1, 0}, 16, 0).mean.x, point.intensity.x * (2.0 / dq) / (kPi * dq * dq), 1e-12);
+    EXPECT_NEAR(tracer.irradianceOverPi(q, {0, 1, 0}, 16, 0).mean.x, point.intensity.x * (2.0 / dq) / (std::numbers::pi * dq * dq), 1e-12);
 }
 
 TEST(PathTracer, CornellBoxDirectLightMatchesGroundTruth) {
