@@ -56,6 +56,20 @@ constexpr double kPointSourceDistance = 24.0;
 // and no near one came out at 6.9e-4 worst point under the 1e-3 budget).
 constexpr double kClusterErrorScale = 4.0;
 constexpr double kClusterErrorBudget = 1e-3;
+// Emitters wholly beyond kFarFreePaths median free paths of the emitters' light (farDistanceM()) are the far group:
+// on a level, lamps of other rooms, mostly hidden. Their light is estimated by its own shadow rays, unbiased
+// (Σ f/pdf), so their cut only shapes where those rays go: clusters are taken whole at any distance (straddling
+// the receiver's plane or theirs, with an upper bound of what they can give as their weight) and split only while
+// their error bounds exceed kFarClusterErrorBudget of the group's total. Cutting them to the near group's 10⁻³ made
+// an element's cut grow with the level (50 → 240 entries for 10 copies of a level; session 30).
+constexpr double kFarFreePaths = 4.0;
+constexpr double kFarClusterErrorBudget = 0.25;
+// Rays from the emitters that set the free path (deterministic: the same level gives the same far distance).
+constexpr int kFreePathRays = 1024;
+// Marks a traversal entry as wholly beyond the far distance (node indices stay below 2³¹).
+constexpr std::uint32_t kFarBit = 0x80000000u;
+// The far group's shadow rays per point: the near group's count over this (at least one).
+constexpr int kFarRayDivisor = 4;
 
 // The sphere about a triangle's centroid that holds it (the distances above are measured between these).
 struct BoundingSphere {
@@ -68,10 +82,12 @@ BoundingSphere boundingSphere(const glm::dvec3& a, const glm::dvec3& b, const gl
 }
 
 // One value over the receiver for node `node` (F·L per channel, `weight` its luminance): summed, and in the CDF.
-void addConstant(EmissiveAreaLights::ReceiverView& view, std::uint32_t node, const glm::dvec3& fl, double weight) {
-    view.constantUnoccluded += fl;
-    view.constant.push_back(node);
-    view.constantCdf.push_back((view.constantCdf.empty() ? 0.0 : view.constantCdf.back()) + weight);
+void addConstant(EmissiveAreaLights::ReceiverView& view, std::uint32_t node, const glm::dvec3& fl, double weight, bool far) {
+    std::vector<std::uint32_t>& nodes = far ? view.farConstant : view.constant;
+    std::vector<double>& cdf = far ? view.farConstantCdf : view.constantCdf;
+    if (!far) view.constantUnoccluded += fl;  // the far group's light is its rays' (irradianceOverPiAt)
+    nodes.push_back(node);
+    cdf.push_back((cdf.empty() ? 0.0 : cdf.back()) + weight);
 }
 
 }  // namespace
@@ -152,6 +168,7 @@ EmissiveAreaLights::EmissiveAreaLights(const PatchMesh& mesh, const EmbreeScene&
     // all face down; mixed with the walls' they would form cones too wide to aggregate).
     std::stable_sort(triangles_.begin(), triangles_.end(),
                      [](const Triangle& x, const Triangle& y) { return cubeFaceOf(x.normal) < cubeFaceOf(y.normal); });
+    if (triangles_.size() >= kFarBit / 2) throw std::length_error("EmissiveAreaLights: too many emitter triangles");
     nodes_.reserve(2 * triangles_.size());
     for (std::size_t first = 0; first < triangles_.size();) {
         std::size_t last = first + 1;
@@ -162,6 +179,30 @@ EmissiveAreaLights::EmissiveAreaLights(const PatchMesh& mesh, const EmbreeScene&
     powerPrefix_.assign(triangles_.size() + 1, 0.0);  // in the order the hierarchy left them
     for (std::size_t i = 0; i < triangles_.size(); ++i)
         powerPrefix_[i + 1] = powerPrefix_[i] + triangles_[i].areaM2 * luminance(triangles_[i].radiance);
+    const double freePathM = medianFreePathM();
+    farDistanceM_ = freePathM > 0.0 ? kFarFreePaths * freePathM : std::numeric_limits<double>::infinity();
+}
+
+double EmissiveAreaLights::medianFreePathM() const {
+    if (triangles_.empty() || !(powerPrefix_.back() > 0.0)) return std::numeric_limits<double>::infinity();
+    std::vector<double> lengthsM(kFreePathRays);
+    for (int i = 0; i < kFreePathRays; ++i) {
+        // Triangles by power, points uniform on them, cosine-distributed directions: where the light goes first.
+        const double target = (i + 0.5) / kFreePathRays * powerPrefix_.back();
+        const std::size_t k = std::min<std::size_t>(
+            std::size_t(std::upper_bound(powerPrefix_.begin() + 1, powerPrefix_.end(), target) - powerPrefix_.begin()) - 1,
+            triangles_.size() - 1);
+        const Triangle& t = triangles_[k];
+        const double r1 = std::fmod(0.5 + i * 0.6180339887498949, 1.0), r2 = radicalInverse2(std::uint32_t(i));
+        const double sq = std::sqrt(r1);
+        const glm::dvec3 x = (1.0 - sq) * t.a + sq * (1.0 - r2) * t.b + sq * r2 * t.c;
+        const glm::dvec3 d = cosineDirection(t.normal, std::fmod(r2 + 0.5, 1.0), std::fmod(0.25 + i * 0.7548776662466927, 1.0));
+        const auto hit = rays_.intersect(rays_.offsetFromSurface(x, t.normal), d, std::numeric_limits<double>::infinity(),
+                                         EmbreeScene::RayEnds::Lifted);
+        lengthsM[i] = hit ? hit->distanceM : std::numeric_limits<double>::infinity();
+    }
+    std::nth_element(lengthsM.begin(), lengthsM.begin() + kFreePathRays / 2, lengthsM.end());
+    return lengthsM[kFreePathRays / 2];
 }
 
 std::uint32_t EmissiveAreaLights::buildNodes(std::uint32_t first, std::uint32_t last) {
@@ -236,7 +277,7 @@ double EmissiveAreaLights::unoccludedFormFactor(const glm::dvec3& p, const glm::
 }
 
 double EmissiveAreaLights::viewTriangle(std::uint32_t node, const glm::dvec3 (&receiver)[3], const glm::dvec3& centroid,
-                                        double radiusM, const glm::dvec3& n, bool refined, ReceiverView& view) const {
+                                        double radiusM, const glm::dvec3& n, bool refined, bool far, ReceiverView& view) const {
     const std::uint32_t i = nodes_[node].first;
     const Triangle& t = triangles_[i];
     const glm::dvec3 v[3] = {t.a, t.b, t.c};
@@ -314,7 +355,7 @@ double EmissiveAreaLights::viewTriangle(std::uint32_t node, const glm::dvec3 (&r
         if (distanceM < kPointSourceDistance * extentM) {
             if (!(f > 0.0)) return 0.0;
             const double weight = f * luminance(t.radiance), ratio = extentM / distanceM;
-            view.clusters.push_back({weight * kClusterErrorScale * ratio * ratio, weight, f * t.radiance, node});
+            (far ? view.farClusters : view.clusters).push_back({weight * kClusterErrorScale * ratio * ratio, weight, f * t.radiance, node});
             return weight;
         }
     } else if (!(radiusM > 0.0)) {
@@ -323,7 +364,7 @@ double EmissiveAreaLights::viewTriangle(std::uint32_t node, const glm::dvec3 (&r
         f = meanOverTriangle(receiver[0], receiver[1], receiver[2]);
     }
     if (!(f > 0.0)) return 0.0;
-    addConstant(view, node, f * t.radiance, f * luminance(t.radiance));
+    addConstant(view, node, f * t.radiance, f * luminance(t.radiance), far);
     return f * luminance(t.radiance);
 }
 
@@ -333,31 +374,43 @@ void EmissiveAreaLights::viewFrom(const glm::dvec3 (&receiver)[3], const glm::dv
     view.constant.clear();
     view.constantCdf.clear();
     view.constantUnoccluded = glm::dvec3(0.0);
+    view.farConstant.clear();
+    view.farConstantCdf.clear();
     view.clusters.clear();
+    view.farClusters.clear();
     const auto [centroid, radiusM] = boundingSphere(receiver[0], receiver[1], receiver[2]);
-    // Lightcuts-like: clusters are taken whole while the sum of their error bounds stays within kClusterErrorBudget of
-    // the unoccluded total (luminance); the one with the largest bound is split first.
-    double total = 0.0, errorSum = 0.0;
+    // Lightcuts-like: clusters are taken whole while the sum of their error bounds stays within the budget of the
+    // unoccluded total (luminance); the one with the largest bound is split first. Per group: [0] near, [1] far.
+    double total[2] = {0.0, 0.0}, errorSum[2] = {0.0, 0.0};
     auto byError = [](const ReceiverView::Cluster& x, const ReceiverView::Cluster& y) { return x.errorBound < y.errorBound; };
-    auto visit = [&](std::uint32_t index) {
+    auto visit = [&](std::uint32_t entry) {
+        const std::uint32_t index = entry & ~kFarBit;
         const Node& node = nodes_[index];
+        const glm::dvec3 toNode = node.centre - centroid;
+        const double distanceM = glm::length(toNode);
+        const bool far = (entry & kFarBit) || distanceM - node.radiusM - radiusM >= farDistanceM_;
+        std::vector<ReceiverView::Cluster>& heap = far ? view.farClusters : view.clusters;
         if (node.count == 1) {
-            const std::size_t candidates = view.clusters.size();
-            total += viewTriangle(index, receiver, centroid, radiusM, n, false, view);
-            if (view.clusters.size() > candidates) {  // a point source for now
-                errorSum += view.clusters.back().errorBound;
-                std::push_heap(view.clusters.begin(), view.clusters.end(), byError);
+            const std::size_t candidates = heap.size();
+            total[far] += viewTriangle(index, receiver, centroid, radiusM, n, false, far, view);
+            if (heap.size() > candidates) {  // a point source for now
+                errorSum[far] += heap.back().errorBound;
+                std::push_heap(heap.begin(), heap.end(), byError);
             }
             return;
         }
         auto open = [&] {
-            view.stack.push_back(node.right);
-            view.stack.push_back(node.left);
+            view.stack.push_back(node.right | (far ? kFarBit : 0u));
+            view.stack.push_back(node.left | (far ? kFarBit : 0u));
         };
-        const glm::dvec3 toNode = node.centre - centroid;
-        const double distanceM = glm::length(toNode);
+        auto take = [&](const glm::dvec3& fl, double weight, double errorBound) {
+            heap.push_back({errorBound, weight, fl, index});
+            std::push_heap(heap.begin(), heap.end(), byError);
+            total[far] += weight;
+            errorSum[far] += errorBound;
+        };
         const double extentM = radiusM + node.radiusM;
-        if (distanceM < kPerPointDistance * extentM) return open();
+        if (!far && distanceM < kPerPointDistance * extentM) return open();
         // The cluster against the receiver's plane (its box's extreme heights): wholly below, nothing; straddling,
         // its parts.
         const glm::dvec3 boxMid = 0.5 * (node.boxLo + node.boxHi), boxHalf = 0.5 * (node.boxHi - node.boxLo);
@@ -367,14 +420,24 @@ void EmissiveAreaLights::viewFrom(const glm::dvec3 (&receiver)[3], const glm::dv
         };
         const auto [lowest, highest] = heightsAlong(n);
         if (highest <= 0.0) return;
-        if (lowest < 0.0) return open();
         // The receiver against the cluster's planes: n_t·(r − x) = axis·(r − x) + (n_t − axis)·(r − x) for every
         // triangle t, point x on it and receiver point r (n_t within normalChord of the axis, |r − x| ≤ distance +
         // extent).
         const auto [nearest, farthest] = heightsAlong(node.axis);
         const double slack = radiusM + node.normalChord * (distanceM + extentM);
         if (-nearest + slack <= 0.0) return;  // behind every triangle
-        if (-farthest - slack <= 0.0) return open();
+        const bool straddles = lowest < 0.0 || -farthest - slack <= 0.0;
+        if (straddles && !far) return open();
+        if (straddles) {
+            // A far cluster across either plane: weighted by the most it can give (cosθ_r ≤ highest / d_min, cosθ_t ≤
+            // the receiver's greatest height over its planes / d_min), so that its triangles in front keep their rays.
+            const double nearestM = distanceM - extentM;
+            const double power = powerPrefix_[node.first + node.count] - powerPrefix_[node.first];
+            const double weight = power * std::min(1.0, highest / nearestM) * std::min(1.0, (-nearest + slack) / nearestM) /
+                                  (M_PI * nearestM * nearestM);
+            if (weight > 0.0) take(glm::dvec3(0.0), weight, weight);
+            return;
+        }
         // A point source at the power-weighted centroid: F·L per channel = cosθ_r / (π d²) · Σ A_t·L_t·cosθ_t. Its
         // error is second order in extent / d (the first-order terms cancel about that centroid while the cosines
         // θ_t agree), plus first order in the normals' spread.
@@ -385,36 +448,40 @@ void EmissiveAreaLights::viewFrom(const glm::dvec3 (&receiver)[3], const glm::dv
         const double weight = luminance(fl);
         if (!(weight > 0.0)) return;
         const double ratio = extentM / distanceM;
-        const double errorBound = weight * (kClusterErrorScale * ratio * ratio + node.normalChord * ratio);
-        view.clusters.push_back({errorBound, weight, fl, index});
-        std::push_heap(view.clusters.begin(), view.clusters.end(), byError);
-        total += weight;
-        errorSum += errorBound;
+        take(fl, weight, weight * (kClusterErrorScale * ratio * ratio + node.normalChord * ratio));
     };
     auto drain = [&] {
         while (!view.stack.empty()) {
-            const std::uint32_t index = view.stack.back();
+            const std::uint32_t entry = view.stack.back();
             view.stack.pop_back();
-            visit(index);
+            visit(entry);
         }
     };
     view.stack.assign(roots_.rbegin(), roots_.rend());
     drain();
-    while (!view.clusters.empty() && errorSum > kClusterErrorBudget * total) {
-        std::pop_heap(view.clusters.begin(), view.clusters.end(), byError);
-        const ReceiverView::Cluster split = view.clusters.back();
-        view.clusters.pop_back();
-        total -= split.weight;
-        errorSum -= split.errorBound;
+    const double budget[2] = {kClusterErrorBudget, kFarClusterErrorBudget};
+    for (;;) {
+        const int group = !view.clusters.empty() && errorSum[0] > budget[0] * total[0]           ? 0
+                          : !view.farClusters.empty() && errorSum[1] > budget[1] * total[1] ? 1
+                                                                                           : -1;
+        if (group < 0) break;
+        std::vector<ReceiverView::Cluster>& heap = group ? view.farClusters : view.clusters;
+        std::pop_heap(heap.begin(), heap.end(), byError);
+        const ReceiverView::Cluster split = heap.back();
+        heap.pop_back();
+        total[group] -= split.weight;
+        errorSum[group] -= split.errorBound;
         if (nodes_[split.node].count == 1) {  // a triangle taken as a point source: the midpoint rule instead
-            total += viewTriangle(split.node, receiver, centroid, radiusM, n, true, view);
+            total[group] += viewTriangle(split.node, receiver, centroid, radiusM, n, true, group == 1, view);
             continue;
         }
-        view.stack.push_back(nodes_[split.node].right);
-        view.stack.push_back(nodes_[split.node].left);
+        const std::uint32_t flag = group ? kFarBit : 0u;
+        view.stack.push_back(nodes_[split.node].right | flag);
+        view.stack.push_back(nodes_[split.node].left | flag);
         drain();
     }
-    for (const ReceiverView::Cluster& c : view.clusters) addConstant(view, c.node, c.fl, c.weight);
+    for (const ReceiverView::Cluster& c : view.clusters) addConstant(view, c.node, c.fl, c.weight, false);
+    for (const ReceiverView::Cluster& c : view.farClusters) addConstant(view, c.node, c.fl, c.weight, true);
 }
 
 glm::dvec3 EmissiveAreaLights::irradianceOverPiAt(const glm::dvec3& p, const glm::dvec3& n, std::uint64_t seed) const {
@@ -459,7 +526,8 @@ glm::dvec3 EmissiveAreaLights::irradianceOverPiAt(const glm::dvec3& p, const glm
     }
     const double perPointTotal = total;
     if (!view.constantCdf.empty()) total += view.constantCdf.back();
-    if (!(total > 0.0)) return glm::dvec3(0.0);
+    const double farTotal = view.farConstantCdf.empty() ? 0.0 : view.farConstantCdf.back();
+    if (!(total > 0.0) && !(farTotal > 0.0)) return glm::dvec3(0.0);
 
     // The stratum's triangle: its index and its [below, above) share of the CDF. A cluster's share is divided among
     // its triangles by their power A·lum(L) (their cosines agree), so the pdf is the cluster's times the triangle's.
@@ -467,15 +535,11 @@ glm::dvec3 EmissiveAreaLights::irradianceOverPiAt(const glm::dvec3& p, const glm
         std::uint32_t triangle;
         double below, above;
     };
-    auto pickAt = [&](double target) {
-        const bool perPoint = !cdf.empty() && (target < perPointTotal || view.constantCdf.empty());
-        const std::vector<double>& c = perPoint ? cdf : view.constantCdf;
-        const double offset = perPoint ? 0.0 : perPointTotal;
+    auto pickIn = [&](const std::vector<std::uint32_t>& nodes, const std::vector<double>& c, double offset, double target) {
         const std::size_t k = std::min<std::size_t>(
             std::size_t(std::upper_bound(c.begin(), c.end(), target - offset) - c.begin()), c.size() - 1);
         const double below = offset + (k ? c[k - 1] : 0.0), above = offset + c[k];
-        if (perPoint) return Pick{index[k], below, above};
-        const Node& node = nodes_[view.constant[k]];
+        const Node& node = nodes_[nodes[k]];
         if (node.count == 1) return Pick{node.first, below, above};
         const double* prefix = powerPrefix_.data();
         const double base = prefix[node.first], power = prefix[node.first + node.count] - base;
@@ -486,36 +550,59 @@ glm::dvec3 EmissiveAreaLights::irradianceOverPiAt(const glm::dvec3& p, const glm
         const double share = (above - below) / power;
         return Pick{t, below + (prefix[t] - base) * share, below + (prefix[t + 1] - base) * share};
     };
+    // The near CDF runs over the per-point triangles first, then over the receiver's constant clusters.
+    auto pickNear = [&](double target) {
+        if (!cdf.empty() && (target < perPointTotal || view.constantCdf.empty())) {
+            const std::size_t k = std::min<std::size_t>(std::size_t(std::upper_bound(cdf.begin(), cdf.end(), target) - cdf.begin()),
+                                                        cdf.size() - 1);
+            return Pick{index[k], k ? cdf[k - 1] : 0.0, cdf[k]};
+        }
+        return pickIn(view.constant, view.constantCdf, perPointTotal, target);
+    };
 
     const glm::dvec3 origin = rays_.offsetFromSurface(p, n);
-    glm::dvec3 weighted(0.0), visible(0.0);
     std::uint64_t state = splitMix64(seed);
     const double rotation = unitDouble(state = splitMix64(state));
-    for (int s = 0; s < samples_; ++s) {
-        const double u = (s + unitDouble(state = splitMix64(state))) / samples_;  // stratified over the CDF
-        const Pick pick = pickAt(u * total);
-        const Triangle& t = triangles_[pick.triangle];
-        const double pdf = (pick.above - pick.below) / total;
+    // Shadow ray s of `count`, stratified over a CDF of `groupTotal`: f/pdf of its point (without the 1/π; zero where
+    // the triangle is clipped away) and whether it is visible.
+    auto sample = [&](int s, int count, double groupTotal, const auto& pick, glm::dvec3& weighted, glm::dvec3& visible) {
+        const double u = (s + unitDouble(state = splitMix64(state))) / count;  // stratified over the CDF
+        const Pick chosen = pick(u * groupTotal);
+        const Triangle& t = triangles_[chosen.triangle];
+        const double pdf = (chosen.above - chosen.below) / groupTotal;
         // Points spread over the triangle, not only over the triangles: the stratum's place within the triangle's
         // share of the CDF (stratified) and a rotated radical inverse (Hammersley-like), so a lamp that is one
         // triangle keeps its penumbrae as smooth as the same lamp split into many elements.
-        const double r1 = std::clamp((u * total - pick.below) / std::max(pick.above - pick.below, 1e-300), 0.0,
+        const double r1 = std::clamp((u * groupTotal - chosen.below) / std::max(chosen.above - chosen.below, 1e-300), 0.0,
                                      std::nextafter(1.0, 0.0));
         const double r2 = std::fmod(radicalInverse2(std::uint32_t(s)) + rotation, 1.0);
         const double sq = std::sqrt(r1);
         const glm::dvec3 x = (1.0 - sq) * t.a + sq * (1.0 - r2) * t.b + sq * r2 * t.c;
         const glm::dvec3 d = x - p;
         const double dist2 = glm::dot(d, d);
-        if (!(dist2 > 0.0) || !(pdf > 0.0)) continue;
+        if (!(dist2 > 0.0) || !(pdf > 0.0)) return;
         const double cosP = glm::dot(n, d), cosX = -glm::dot(t.normal, d);
-        if (cosP <= 0.0 || cosX <= 0.0) continue;  // the clipped-away part of the triangle
+        if (cosP <= 0.0 || cosX <= 0.0) return;  // the clipped-away part of the triangle
         const glm::dvec3 a = t.radiance * (t.areaM2 * cosP * cosX / (dist2 * dist2 * pdf));
         weighted += a;
         if (!rays_.occluded(origin, rays_.offsetFromSurface(x, t.normal), EmbreeScene::RayEnds::Lifted)) visible += a;
-    }
+    };
     glm::dvec3 result(0.0);
-    for (int c = 0; c < 3; ++c)
-        result[c] = weighted[c] > 0.0 ? unoccluded[c] * (visible[c] / weighted[c]) : unoccluded[c];
+    if (total > 0.0) {
+        // Near: the exact unoccluded term times the visible share of its shadow rays (ratio estimator).
+        glm::dvec3 weighted(0.0), visible(0.0);
+        for (int s = 0; s < samples_; ++s) sample(s, samples_, total, pickNear, weighted, visible);
+        for (int c = 0; c < 3; ++c)
+            result[c] = weighted[c] > 0.0 ? unoccluded[c] * (visible[c] / weighted[c]) : unoccluded[c];
+    }
+    if (farTotal > 0.0) {
+        // Far: Σ f/pdf over its own rays (unbiased whatever the cut, which only decides where they go).
+        const int farSamples = std::max(1, samples_ / kFarRayDivisor);
+        glm::dvec3 weighted(0.0), visible(0.0);
+        auto pickFar = [&](double target) { return pickIn(view.farConstant, view.farConstantCdf, 0.0, target); };
+        for (int s = 0; s < farSamples; ++s) sample(s, farSamples, farTotal, pickFar, weighted, visible);
+        result += visible / (M_PI * farSamples);
+    }
     return result;
 }
 

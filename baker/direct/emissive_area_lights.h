@@ -9,6 +9,9 @@
 // hemisphere above p), then E = E_u · Σ_i a_i·V_i / Σ_i a_i over shadow rays to points x_i picked on triangle t_i
 // with probability ∝ L_t·F(p → t) (stratified), a_i = L_t·A_t·cosθ_p·cosθ_x / (r²·pdf(t_i)): the visible
 // fraction weighted like the integrand. Exact when all V_i agree; a ratio estimator (consistent) otherwise.
+// Emitters wholly beyond farDistanceM() of the receiver (a level's other rooms) are a group of their own, estimated
+// by Σ f/pdf over rays of their own (a quarter as many): unbiased however coarsely they are clustered, so their
+// cut stays small where the ratio estimator's E_u would need every far cluster resolved to 10⁻³ of the total.
 #include <cstdint>
 #include <vector>
 
@@ -56,18 +59,26 @@ public:
         std::vector<std::uint32_t> constant;    // clusters (nodes) whose form factor is one value over the receiver
         std::vector<double> constantCdf;        // running Σ F̄_node·luminance over `constant`
         glm::dvec3 constantUnoccluded{0.0};     // Σ F̄_t·L_t over the triangles of `constant`
+        // The far group: clusters wholly beyond farDistanceM() of the receiver, cut to the coarser
+        // kFarClusterErrorBudget of their own total. Their weights only say where the group's rays go.
+        std::vector<std::uint32_t> farConstant;
+        std::vector<double> farConstantCdf;     // running Σ weight over `farConstant`
         // Traversal scratch: nodes to visit, and the clusters taken whole so far (a max-heap on errorBound).
         struct Cluster {
             double errorBound, weight;  // luminance of the error bound and of fl
             glm::dvec3 fl;              // F·L per channel
             std::uint32_t node;
         };
-        std::vector<std::uint32_t> stack;
-        std::vector<Cluster> clusters;
+        std::vector<std::uint32_t> stack;       // node | kFarBit when it is wholly beyond farDistanceM()
+        std::vector<Cluster> clusters, farClusters;
     };
     // Fills `view` (reused: no allocation once warm) for the triangle `receiver` (three equal points: a point) with
     // unit normal n. Thread-safe for distinct views.
     void viewFrom(const glm::dvec3 (&receiver)[3], const glm::dvec3& n, ReceiverView& view) const;
+
+    // Distance from a receiver beyond which emitters are the far group: kFarFreePaths × the median free path of
+    // rays leaving the emitters (the size of the rooms they light); infinite (no far group) when most rays escape.
+    double farDistanceM() const { return farDistanceM_; }
 
     // E/π (W·m⁻²·sr⁻¹) at p, unit normal n (the receiving side). `seed` decorrelates neighbouring points.
     glm::dvec3 irradianceOverPiAt(const glm::dvec3& p, const glm::dvec3& n, std::uint64_t seed) const;
@@ -104,15 +115,19 @@ private:
     // A triangle alone (a leaf): per point, one value over the receiver, or nothing. Appends to `view`; returns its
     // luminance(F·L) (per point: at the receiver's centroid, an estimate). A receiving element may get a triangle
     // nearer than kPointSourceDistance as a point-source candidate (appended to view.clusters, not yet a heap
-    // entry); `refined` asks for the midpoint rule instead.
+    // entry); `refined` asks for the midpoint rule instead. `far`: its one value or candidacy goes to the far group.
     double viewTriangle(std::uint32_t node, const glm::dvec3 (&receiver)[3], const glm::dvec3& centroid, double radiusM,
-                        const glm::dvec3& n, bool refined, ReceiverView& view) const;
+                        const glm::dvec3& n, bool refined, bool far, ReceiverView& view) const;
+    // Median distance that rays leaving the emitters (by power, cosine-distributed) travel to a surface; infinite
+    // when most escape. Deterministic.
+    double medianFreePathM() const;
 
     std::vector<Triangle> triangles_;
     std::vector<Node> nodes_;
     std::vector<std::uint32_t> roots_;    // one hierarchy per dominant normal axis and sign
     std::vector<double> powerPrefix_;     // Σ A·lum(L) over triangles_[0, i): picks a triangle within a cluster
     std::size_t inputTriangles_ = 0;
+    double farDistanceM_ = 0.0;
     const EmbreeScene& rays_;
     int samples_;
 };

@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 
 #include <gtest/gtest.h>
 
@@ -412,6 +413,99 @@ TEST(EmissiveAreaLights, FarClustersOfLampsAreOnePointSourceAndKeepTheirShadows)
         ASSERT_LT(exact, 0.8 * unoccluded) << "the wall no longer hides the far lamps: the test lost its premise";
         ASSERT_GT(exact, 0.2 * unoccluded);
         EXPECT_NEAR(got / exact, 1.0, 0.01);
+    }
+}
+
+// The far group starts at 4 median free paths of the emitters' light. A lamp facing a wide plane at distance D: its
+// cosine-distributed rays travel D / cosθ with cos²θ uniform, so the median is D·√2. With nothing in front, the
+// light escapes and there is no far group.
+TEST(EmissiveAreaLights, FarDistanceIsFourMedianFreePathsOfTheEmittersLight) {
+    for (const bool plane : {true, false}) {
+        constexpr double kD = 2.0;
+        SceneBuilder b("lamp under a plane");
+        const int black = b.addMaterial(glm::vec3(0.0f), glm::vec3(0.0f), false, "black");
+        const int lamp = b.addMaterial(glm::vec3(0.0f), glm::vec3(1.0f), false, "lamp");
+        b.addQuad({-0.5, 0, -0.5}, {-0.5, 0, 0.5}, {0.5, 0, 0.5}, {0.5, 0, -0.5}, lamp, "lamp");  // faces up
+        if (plane) b.addQuad({-2000, kD, -2000}, {2000, kD, -2000}, {2000, kD, 2000}, {-2000, kD, 2000}, black, "plane");
+        const Scene scene = b.build();
+        const PatchMesh mesh = subdivide(scene, SubdivisionSettings{1000.0, 1000.0, 0.0});
+        const EmbreeScene rays(scene);
+        const EmissiveAreaLights lights(mesh, rays, 4);
+        if (plane) {
+            EXPECT_NEAR(lights.farDistanceM() / (4.0 * std::sqrt(2.0) * kD), 1.0, 0.02) << lights.farDistanceM();
+        } else {
+            EXPECT_EQ(lights.farDistanceM(), std::numeric_limits<double>::infinity());
+        }
+    }
+}
+
+// Lamps beyond the far distance (other rooms of a level) are cut coarsely and estimated by their own rays, Σ f/pdf:
+// no bias, whatever the coarse cut's error; hidden, they add exactly nothing and the room's own lamp stays exact.
+TEST(EmissiveAreaLights, FarLampsHaveRaysOfTheirOwnAndNoBias) {
+    std::vector<std::array<glm::dvec3, 3>> lamps;
+    for (int i = 0; i < 10; ++i)
+        for (int j = 0; j < 10; ++j) {
+            const glm::dvec3 c(40.0 + 2.0 * i, 3.0, -9.0 + 2.0 * j);
+            lamps.push_back({c + glm::dvec3(0.1, 0, 0), c + glm::dvec3(-0.05, 0, -0.0866), c + glm::dvec3(-0.05, 0, 0.0866)});
+        }
+    lamps.push_back({glm::dvec3(1.75, 2.5, 1.75), glm::dvec3(2.25, 2.5, 1.75), glm::dvec3(2.25, 2.5, 2.25)});  // the room's
+    const glm::dvec3 up(0, 1, 0);
+    for (const bool wall : {false, true}) {
+        SceneBuilder b("far lamps");
+        const int black = b.addMaterial(glm::vec3(0.0f), glm::vec3(0.0f), false, "black");
+        const int farLamp = b.addMaterial(glm::vec3(0.0f), glm::vec3(100.0f), false, "far lamp");
+        const int roomLamp = b.addMaterial(glm::vec3(0.0f), glm::vec3(2.0f), false, "room lamp");
+        // A wide black ground (it bounds the lamps' free path to ~3 m: far distance ~17 m), and the lamps, facing down.
+        b.addQuad({-200, 0, -200}, {-200, 0, 200}, {200, 0, 200}, {200, 0, -200}, black, "ground");
+        for (std::size_t k = 0; k < lamps.size(); ++k) {
+            const auto& l = lamps[k];
+            const bool down = glm::cross(l[1] - l[0], l[2] - l[0]).y < 0.0;
+            b.addTriangles({l[0], down ? l[1] : l[2], down ? l[2] : l[1]}, {{0, 1, 2}}, k + 1 < lamps.size() ? farLamp : roomLamp,
+                           "lamp");
+        }
+        if (wall) b.addQuad({20, 0, -100}, {20, 20, -100}, {20, 20, 100}, {20, 0, 100}, black, "wall");
+        const Scene scene = b.build();
+        const PatchMesh mesh = subdivide(scene, SubdivisionSettings{1000.0, 1000.0, 0.0});
+        const EmbreeScene rays(scene);
+        const EmissiveAreaLights lights(mesh, rays, 4);
+        ASSERT_GT(lights.farDistanceM(), 10.0);
+        ASSERT_LT(lights.farDistanceM(), 30.0);
+        auto exactAt = [&](const glm::dvec3& p, std::size_t count) {
+            double sum = 0.0;
+            for (std::size_t k = 0; k < count; ++k) {
+                const glm::dvec3 v[3] = {lamps[k][0], lamps[k][1], lamps[k][2]};
+                sum += (k + 1 < lamps.size() ? 100.0 : 2.0) * EmissiveAreaLights::unoccludedFormFactor(p, up, v, 3);
+            }
+            return sum;
+        };
+        const glm::dvec3 receiver[3] = {{1.0, 0.0, 1.0}, {1.0, 0.0, 1.5}, {1.5, 0.0, 1.0}};
+        EmissiveAreaLights::ReceiverView view;
+        lights.viewFrom(receiver, up, view);
+        EXPECT_FALSE(view.farConstant.empty());
+        EXPECT_LT(view.farConstant.size(), 20u) << "the far lamps are cut finely";
+        EXPECT_EQ(view.perPoint.size() + view.frontOnly.size() + view.constant.size(), 1u) << "the room's lamp";
+        for (const glm::dvec3 p : {glm::dvec3(1.0, 0.0, 1.0), glm::dvec3(3.5, 0.0, 0.5)}) {
+            const double roomOnly = exactAt(p, lamps.size()) - exactAt(p, lamps.size() - 1);
+            if (wall) {  // the far rays all meet the wall: the room's lamp alone, exactly, whatever the seed
+                for (std::uint64_t seed = 1; seed <= 50; ++seed)
+                    ASSERT_NEAR(lights.irradianceOverPiAt(p, up, seed, view).x, roomOnly, 1e-12 * roomOnly) << seed;
+                continue;
+            }
+            constexpr int kCalls = 4000;
+            double sum = 0.0, sum2 = 0.0;
+            for (int s = 0; s < kCalls; ++s) {
+                const double v = lights.irradianceOverPiAt(p, up, std::uint64_t(s) + 1, view).x;
+                sum += v;
+                sum2 += v * v;
+            }
+            const double mean = sum / kCalls, standardError = std::sqrt(std::max(0.0, sum2 / kCalls - mean * mean) / kCalls);
+            const double exact = exactAt(p, lamps.size());
+            std::printf("at (%.1f, %.1f): far lamps %.3g of E, estimated %.6g ± %.2g against %.6g\n", p.x, p.z,
+                        1.0 - roomOnly / exact, mean, standardError, exact);
+            ASSERT_GT(exact - roomOnly, 1e-3 * exact) << "the far lamps weigh nothing: the test lost its premise";
+            EXPECT_NEAR(mean, exact, 4.0 * standardError + 1e-9 * exact);
+            EXPECT_GT(standardError, 0.0);
+        }
     }
 }
 
