@@ -478,13 +478,13 @@ TEST(EmissiveAreaLights, FarLampsHaveRaysOfTheirOwnAndNoBias) {
             }
             return sum;
         };
-        const glm::dvec3 receiver[3] = {{1.0, 0.0, 1.0}, {1.0, 0.0, 1.5}, {1.5, 0.0, 1.0}};
-        EmissiveAreaLights::ReceiverView view;
-        lights.viewFrom(receiver, up, view);
-        EXPECT_FALSE(view.farConstant.empty());
-        EXPECT_LT(view.farConstant.size(), 20u) << "the far lamps are cut finely";
-        EXPECT_EQ(view.perPoint.size() + view.frontOnly.size() + view.constant.size(), 1u) << "the room's lamp";
         for (const glm::dvec3 p : {glm::dvec3(1.0, 0.0, 1.0), glm::dvec3(3.5, 0.0, 0.5)}) {
+            const glm::dvec3 point[3] = {p, p, p};
+            EmissiveAreaLights::ReceiverView view;
+            lights.viewFrom(point, up, view);
+            EXPECT_FALSE(view.farConstant.empty());
+            EXPECT_LT(view.farConstant.size(), 20u) << "the far lamps are cut finely";
+            EXPECT_EQ(view.perPoint.size() + view.frontOnly.size() + view.constant.size(), 1u) << "the room's lamp";
             const double roomOnly = exactAt(p, lamps.size()) - exactAt(p, lamps.size() - 1);
             if (wall) {  // the far rays all meet the wall: the room's lamp alone, exactly, whatever the seed
                 for (std::uint64_t seed = 1; seed <= 50; ++seed)
