@@ -81,6 +81,30 @@ BoundingSphere boundingSphere(const glm::dvec3& a, const glm::dvec3& b, const gl
     return {centre, std::max({glm::length(a - centre), glm::length(b - centre), glm::length(c - centre)})};
 }
 
+// A uniform point on triangle (a, b, c) from r1, r2 in [0, 1).
+glm::dvec3 pointOnTriangle(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, double r1, double r2) {
+    const double sq = std::sqrt(r1);
+    return (1.0 - sq) * a + sq * (1.0 - r2) * b + sq * r2 * c;
+}
+
+// The entry of a running sum `cdf` (offset by `offset`) that `target` falls in, and its [below, above).
+struct Stratum {
+    std::size_t k;
+    double below, above;
+};
+Stratum stratumAt(const std::vector<double>& cdf, double offset, double target) {
+    const std::size_t k = std::min<std::size_t>(
+        std::size_t(std::upper_bound(cdf.begin(), cdf.end(), target - offset) - cdf.begin()), cdf.size() - 1);
+    return {k, offset + (k ? cdf[k - 1] : 0.0), offset + cdf[k]};
+}
+
+// The triangle of [first, first + count) whose share of the running power sum `prefix` holds `within`.
+std::uint32_t triangleAtPower(const std::vector<double>& prefix, std::uint32_t first, std::uint32_t count, double within) {
+    const double* p = prefix.data();
+    return std::min<std::uint32_t>(std::uint32_t(std::upper_bound(p + first + 1, p + first + count + 1, within) - p) - 1,
+                                   first + count - 1);
+}
+
 // One value over the receiver for node `node` (F·L per channel, `weight` its luminance): summed, and in the CDF.
 void addConstant(EmissiveAreaLights::ReceiverView& view, std::uint32_t node, const glm::dvec3& fl, double weight, bool far) {
     std::vector<std::uint32_t>& nodes = far ? view.farConstant : view.constant;
@@ -189,13 +213,9 @@ double EmissiveAreaLights::medianFreePathM() const {
     for (int i = 0; i < kFreePathRays; ++i) {
         // Triangles by power, points uniform on them, cosine-distributed directions: where the light goes first.
         const double target = (i + 0.5) / kFreePathRays * powerPrefix_.back();
-        const std::size_t k = std::min<std::size_t>(
-            std::size_t(std::upper_bound(powerPrefix_.begin() + 1, powerPrefix_.end(), target) - powerPrefix_.begin()) - 1,
-            triangles_.size() - 1);
-        const Triangle& t = triangles_[k];
+        const Triangle& t = triangles_[triangleAtPower(powerPrefix_, 0, std::uint32_t(triangles_.size()), target)];
         const double r1 = std::fmod(0.5 + i * 0.6180339887498949, 1.0), r2 = radicalInverse2(std::uint32_t(i));
-        const double sq = std::sqrt(r1);
-        const glm::dvec3 x = (1.0 - sq) * t.a + sq * (1.0 - r2) * t.b + sq * r2 * t.c;
+        const glm::dvec3 x = pointOnTriangle(t.a, t.b, t.c, r1, r2);
         const glm::dvec3 d = cosineDirection(t.normal, std::fmod(r2 + 0.5, 1.0), std::fmod(0.25 + i * 0.7548776662466927, 1.0));
         const auto hit = rays_.intersect(rays_.offsetFromSurface(x, t.normal), d, std::numeric_limits<double>::infinity(),
                                          EmbreeScene::RayEnds::Lifted);
@@ -536,26 +556,21 @@ glm::dvec3 EmissiveAreaLights::irradianceOverPiAt(const glm::dvec3& p, const glm
         double below, above;
     };
     auto pickIn = [&](const std::vector<std::uint32_t>& nodes, const std::vector<double>& c, double offset, double target) {
-        const std::size_t k = std::min<std::size_t>(
-            std::size_t(std::upper_bound(c.begin(), c.end(), target - offset) - c.begin()), c.size() - 1);
-        const double below = offset + (k ? c[k - 1] : 0.0), above = offset + c[k];
+        const auto [k, below, above] = stratumAt(c, offset, target);
         const Node& node = nodes_[nodes[k]];
         if (node.count == 1) return Pick{node.first, below, above};
         const double* prefix = powerPrefix_.data();
         const double base = prefix[node.first], power = prefix[node.first + node.count] - base;
         const double within = base + std::clamp((target - below) / std::max(above - below, 1e-300), 0.0, 1.0) * power;
-        const std::uint32_t t = std::min<std::uint32_t>(
-            std::uint32_t(std::upper_bound(prefix + node.first + 1, prefix + node.first + node.count + 1, within) - prefix) - 1,
-            node.first + node.count - 1);
+        const std::uint32_t t = triangleAtPower(powerPrefix_, node.first, node.count, within);
         const double share = (above - below) / power;
         return Pick{t, below + (prefix[t] - base) * share, below + (prefix[t + 1] - base) * share};
     };
     // The near CDF runs over the per-point triangles first, then over the receiver's constant clusters.
     auto pickNear = [&](double target) {
         if (!cdf.empty() && (target < perPointTotal || view.constantCdf.empty())) {
-            const std::size_t k = std::min<std::size_t>(std::size_t(std::upper_bound(cdf.begin(), cdf.end(), target) - cdf.begin()),
-                                                        cdf.size() - 1);
-            return Pick{index[k], k ? cdf[k - 1] : 0.0, cdf[k]};
+            const auto [k, below, above] = stratumAt(cdf, 0.0, target);
+            return Pick{index[k], below, above};
         }
         return pickIn(view.constant, view.constantCdf, perPointTotal, target);
     };
@@ -565,7 +580,11 @@ glm::dvec3 EmissiveAreaLights::irradianceOverPiAt(const glm::dvec3& p, const glm
     const double rotation = unitDouble(state = splitMix64(state));
     // Shadow ray s of `count`, stratified over a CDF of `groupTotal`: f/pdf of its point (without the 1/π; zero where
     // the triangle is clipped away) and whether it is visible.
-    auto sample = [&](int s, int count, double groupTotal, const auto& pick, glm::dvec3& weighted, glm::dvec3& visible) {
+    struct Sample {
+        glm::dvec3 fOverPdf{0.0};
+        bool visible = false;
+    };
+    auto sample = [&](int s, int count, double groupTotal, const auto& pick) -> Sample {
         const double u = (s + unitDouble(state = splitMix64(state))) / count;  // stratified over the CDF
         const Pick chosen = pick(u * groupTotal);
         const Triangle& t = triangles_[chosen.triangle];
@@ -576,31 +595,36 @@ glm::dvec3 EmissiveAreaLights::irradianceOverPiAt(const glm::dvec3& p, const glm
         const double r1 = std::clamp((u * groupTotal - chosen.below) / std::max(chosen.above - chosen.below, 1e-300), 0.0,
                                      std::nextafter(1.0, 0.0));
         const double r2 = std::fmod(radicalInverse2(std::uint32_t(s)) + rotation, 1.0);
-        const double sq = std::sqrt(r1);
-        const glm::dvec3 x = (1.0 - sq) * t.a + sq * (1.0 - r2) * t.b + sq * r2 * t.c;
+        const glm::dvec3 x = pointOnTriangle(t.a, t.b, t.c, r1, r2);
         const glm::dvec3 d = x - p;
         const double dist2 = glm::dot(d, d);
-        if (!(dist2 > 0.0) || !(pdf > 0.0)) return;
+        if (!(dist2 > 0.0) || !(pdf > 0.0)) return {};
         const double cosP = glm::dot(n, d), cosX = -glm::dot(t.normal, d);
-        if (cosP <= 0.0 || cosX <= 0.0) return;  // the clipped-away part of the triangle
-        const glm::dvec3 a = t.radiance * (t.areaM2 * cosP * cosX / (dist2 * dist2 * pdf));
-        weighted += a;
-        if (!rays_.occluded(origin, rays_.offsetFromSurface(x, t.normal), EmbreeScene::RayEnds::Lifted)) visible += a;
+        if (cosP <= 0.0 || cosX <= 0.0) return {};  // the clipped-away part of the triangle
+        return {t.radiance * (t.areaM2 * cosP * cosX / (dist2 * dist2 * pdf)),
+                !rays_.occluded(origin, rays_.offsetFromSurface(x, t.normal), EmbreeScene::RayEnds::Lifted)};
     };
     glm::dvec3 result(0.0);
     if (total > 0.0) {
         // Near: the exact unoccluded term times the visible share of its shadow rays (ratio estimator).
         glm::dvec3 weighted(0.0), visible(0.0);
-        for (int s = 0; s < samples_; ++s) sample(s, samples_, total, pickNear, weighted, visible);
+        for (int s = 0; s < samples_; ++s) {
+            const Sample one = sample(s, samples_, total, pickNear);
+            weighted += one.fOverPdf;
+            if (one.visible) visible += one.fOverPdf;
+        }
         for (int c = 0; c < 3; ++c)
             result[c] = weighted[c] > 0.0 ? unoccluded[c] * (visible[c] / weighted[c]) : unoccluded[c];
     }
     if (farTotal > 0.0) {
         // Far: Σ f/pdf over its own rays (unbiased whatever the cut, which only decides where they go).
         const int farSamples = std::max(1, samples_ / kFarRayDivisor);
-        glm::dvec3 weighted(0.0), visible(0.0);
+        glm::dvec3 visible(0.0);
         auto pickFar = [&](double target) { return pickIn(view.farConstant, view.farConstantCdf, 0.0, target); };
-        for (int s = 0; s < farSamples; ++s) sample(s, farSamples, farTotal, pickFar, weighted, visible);
+        for (int s = 0; s < farSamples; ++s) {
+            const Sample one = sample(s, farSamples, farTotal, pickFar);
+            if (one.visible) visible += one.fOverPdf;
+        }
         result += visible / (M_PI * farSamples);
     }
     return result;
