@@ -21,6 +21,16 @@
 namespace hemibake {
 
 class ElementRayScene;
+
+// A receiver cannot see more than its whole hemisphere of one patch (F_ji ≤ 1). A shot that hands element j
+// F_ji = F_ij·A_i/A_j above this through one or two hemicube pixels or rays (ProgressiveShooter::
+// singlePixelFormFactor) drew an element much smaller than a pixel into all of it: level_clean has slivers of
+// 1e-13 m² beside walls handed F_ji = 8e7, radiosity 1e7 W/m², and the few texels whose gathers see them made rooms
+// +120 … +390 % per object. Such an element's own shot light is replaced after the solve (RadiositySolver) and does
+// not hold the local bound open. Elements that fill many pixels are left alone even above 1: 5 cm under a light
+// panel the near-field rows overshoot (up to F_ji = 32 in the HangingPanel room) but are right on average:
+// replacing those above 2 took the ceiling over the panel from +0.8 % to −17 %.
+constexpr double kImplausibleReceivedFormFactor = 1.0;
 class HemicubePool;
 struct HemicubeFrame;
 
@@ -57,7 +67,8 @@ public:
     // The local error bound: per element e, the irradiance still to arrive at it, H_pending(e) = Σ_p ΔB_p·F_pe·A_p/A_e
     // over the unshot patches (first bounce, through their cached form-factor rows), over (1 − ρ_max)·H(e), its
     // irradiance so far. A patch that has never shot could reach anything: it must shoot; one that has shot but whose
-    // row did not fit the cache bounds each lit element's gain by its ΔB (F_ep ≤ 1).
+    // row did not fit the cache bounds each lit element's gain by its ΔB (F_ep ≤ 1). Implausible receivers
+    // (singlePixelFormFactor() > kImplausibleReceivedFormFactor) are left out: their own value is replaced.
     struct LocalBound {
         double max = 0.0, p95 = 0.0, median = 0.0;  // over elements, area-weighted
         std::size_t unknownPatches = 0;              // unshot patches without a row
@@ -170,6 +181,7 @@ private:
     // Unshot power per element, W (channel sum): where on its patch the light to shoot lies.
     std::vector<double> unshotW_;
     std::vector<float> singlePixelFormFactor_;  // per element, see singlePixelFormFactor()
+    std::vector<std::uint32_t> zCurveRank_;      // per patch: its place on a Z-curve through the centroids (run())
     double largestPixelFormFactor_ = 0.0;        // the hemicube's largest delta form factor (its centre pixel)
     std::unique_ptr<tbb::enumerable_thread_specific<MergeScratch>> scratch_;
     std::unique_ptr<FormFactorCache> cache_;

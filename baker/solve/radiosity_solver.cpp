@@ -109,15 +109,6 @@ glm::dvec3 radiosityUnder(const ElementArrays& el, std::size_t e, const glm::dve
     return M_PI * glm::dvec3(el.emittedRadiance[e]) + glm::dvec3(el.reflectance[e]) * irradiance;
 }
 
-// A receiver cannot see more than its whole hemisphere of one patch (F_ji ≤ 1). A shot that hands element j
-// F_ji = F_ij·A_i/A_j above this through one or two hemicube pixels (ProgressiveShooter::singlePixelFormFactor) drew
-// an element much smaller than a pixel into all of it: level_clean has slivers of 1e-13 m² beside walls handed
-// F_ji = 8e7, radiosity 1e7 W/m², and the few texels whose gathers see them made rooms +120 … +390 % per object.
-// Elements that fill many pixels are left alone even above 1: 5 cm under a light panel the near-field rows
-// overshoot (up to F_ji = 32 in the HangingPanel room) but are right on average: replacing those above 2 took the
-// ceiling over the panel from +0.8 % to −17 %.
-constexpr double kImplausibleReceivedFormFactor = 1.0;
-
 // Replaces the shot light of the elements a shot handed an implausible F_ji (kImplausibleReceivedFormFactor) by
 // that of the measured elements around them. The power those shots moved is right on average (the receiver's patch
 // shoots it on), so the solve and its ledger keep it; only what the element itself shows is noise. Not gathered

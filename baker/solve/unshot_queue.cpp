@@ -25,4 +25,20 @@ std::size_t UnshotQueue::argmax() const {
     return node - leaves_;
 }
 
+void UnshotQueue::collectAtLeast(double threshold, std::vector<std::uint32_t>& out) const {
+    if (!(threshold > 0.0) || !(max_[1] >= threshold)) return;
+    // Depth-first, left before right: only subtrees whose maximum reaches the threshold are entered.
+    std::vector<std::size_t> stack{1};
+    while (!stack.empty()) {
+        const std::size_t node = stack.back();
+        stack.pop_back();
+        if (node >= leaves_) {
+            out.push_back(std::uint32_t(node - leaves_));
+            continue;
+        }
+        if (max_[2 * node + 1] >= threshold) stack.push_back(2 * node + 1);
+        if (max_[2 * node] >= threshold) stack.push_back(2 * node);
+    }
+}
+
 }  // namespace hemibake

@@ -14,6 +14,8 @@ public:
     void set(std::size_t index, double powerWatts);
     double get(std::size_t index) const { return max_[leaves_ + index]; }
     std::size_t argmax() const;
+    // Appends to `out` every index whose power is >= threshold (> 0), ascending; O(k log n) for k found.
+    void collectAtLeast(double threshold, std::vector<std::uint32_t>& out) const;
     double maxPower() const { return max_[1]; }
     double totalPower() const { return sum_[1]; }
     std::size_t size() const { return count_; }
