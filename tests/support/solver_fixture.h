@@ -38,6 +38,18 @@ inline Scene furnace(float rho, float emitted, bool onlyTopEmits) {
     return b.build();
 }
 
+// A closed unit cube, every face emitting L_e with reflectance rho, whose floor has a needle triangle across it
+// (1 m long, `widthM` wide at its apex, in the floor's plane): a sliver as cutting and unwrapping leave them beside
+// walls, which a shot's pixel or ray can hand all of itself (F_ji ≫ 1).
+inline Scene needleFurnace(float rho, float emitted, double widthM) {
+    SceneBuilder b("needle furnace");
+    const int wall = b.addMaterial(glm::vec3(rho), glm::vec3(emitted));
+    addFurnaceFaces(b, wall, wall, false);
+    b.addTriangles({{0, 0, 0}, {1, 0, 0}, {1, 0, 1}, {0, 0, 1}, {0, 0, 0.5}, {1, 0, 0.5}, {0.5, 0, 0.5 + widthM}},
+                   {{0, 4, 1}, {1, 4, 5}, {4, 6, 5}, {4, 3, 6}, {6, 3, 2}, {6, 2, 5}}, wall, "floor with a needle");
+    return b.build();
+}
+
 // An open scene for power-ledger checks: a floor, a block standing on it and a square lamp above, open to the sky
 // on every side (callers may add lights before building).
 inline SceneBuilder openSceneWithLamp() {

@@ -193,16 +193,11 @@ TEST(UnevenShots, HotSpotIsShotFromWhereItLiesAndTheLedgerBalances) {
 // power ledger, the shooting's, still balances. (A needle element no pixel ever lands on stays dark: left alone.)
 TEST(ImplausibleReceivers, NeedleInAFurnaceFloorShowsTheLightAroundIt) {
     const float rho = 0.8f, le = 1.0f;
-    SceneBuilder b("needle furnace");
-    const int wall = b.addMaterial(glm::vec3(rho), glm::vec3(le));
-    hemibake::test::addFurnaceFaces(b, wall, wall, false);
     const double width = 1e-5;
-    b.addTriangles({{0, 0, 0}, {1, 0, 0}, {1, 0, 1}, {0, 0, 1}, {0, 0, 0.5}, {1, 0, 0.5}, {0.5, 0, 0.5 + width}},
-                   {{0, 4, 1}, {1, 4, 5}, {4, 6, 5}, {4, 3, 6}, {6, 3, 2}, {6, 2, 5}}, wall, "floor with a needle");
     SolveSettings s = shootOnly(0.5, 32);
     s.solver.epsilon = 1e-4;
     s.solver.formFactorCacheMiB = 4096.0 / 1048576.0;
-    const auto solved = solveTestScene(b.build(), s);
+    const auto solved = solveTestScene(hemibake::test::needleFurnace(rho, le, width), s);
     const PatchMesh& mesh = solved->mesh;
     const double expected = le / (1.0 - double(rho));
     double needleArea = 0.0, brightest = 0.0;
