@@ -1,8 +1,8 @@
 #pragma once
 // Progressive refinement by shooting (Cohen, Chen, Wallace & Greenberg 1988): the patch with the most unshot
 // power renders an item-buffer hemicube and hands ρ_j·ΔB_i·F_ij·A_i/A_j to every element j it sees; what the
-// receivers reflect becomes their patches' unshot radiosity. With several worker threads, the top-k patches
-// render in parallel and their shots are applied in order (each shoots what it held when picked).
+// receivers reflect becomes their patches' unshot radiosity. Patches are shot in batches of one per worker thread,
+// rendered in parallel and applied in order (each shoots what it holds when its batch is picked).
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -79,7 +79,8 @@ public:
     LocalBound localBound(double epsilon, bool quantiles = true) const;
 
     using Progress = std::function<void(const ConvergenceRecord&)>;
-    // Shoots the largest unshot power until it is ≤ epsilon × injected power, then the patches that decide the
+    // Shoots the largest unshot powers (in sweeps: every patch with at least half the largest, along a Z-curve
+    // through their centroids) until the total is ≤ epsilon × injected power, then the patches that decide the
     // local bound until every element's is ≤ epsilon (a sunlit exterior does not decide when a dark corridor
     // stops), or a time/shot limit. Returns the stop reason.
     std::string run(ConvergenceHistory& history, const Progress& progress, double startSeconds);
