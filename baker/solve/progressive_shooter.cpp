@@ -595,8 +595,8 @@ std::vector<glm::dvec3> ProgressiveShooter::pendingIrradiance(std::size_t* unkno
         entries += row->size();
     }
     if (unknownPatches) *unknownPatches = unknown;
-    // One pass over every unshot patch's row, the local phase's cost on a large level (56 rounds on 30 copies of a
-    // level): split into runs of about equal entries, one per thread, each summed into its own array and the arrays
+    // One pass over every unshot patch's row, the local phase's cost on a large level (33 rounds on 30 copies of a
+    // level, 55 before session 31): split into runs of about equal entries, one per thread, each summed into its own array and the arrays
     // added in run order, so the sums do not depend on which thread ran what.
     const std::size_t parts = std::clamp<std::size_t>(std::size_t(tbb::this_task_arena::max_concurrency()), 1,
                                                       std::max<std::size_t>(rows.size(), 1));
@@ -787,9 +787,9 @@ std::string ProgressiveShooter::run(ConvergenceHistory& history, const Progress&
     std::string reason;
     // The bulk: the largest unshot powers first, while they are a sizeable part of what came in. In sweeps, not one
     // argmax at a time: every patch holding at least half the largest power, shot along a Z-curve, so consecutive
-    // shots trace rays through the same part of the level while its BVH nodes and elements are in cache (one argmax
-    // at a time hops between rooms of equal light: on 30 copies of a level every shot in another copy, rays 25 %
-    // dearer than on one). Each still shoots what it holds when its turn comes.
+    // shots trace rays through the same part of the level (one argmax at a time hops between rooms of equal light).
+    // Each still shoots what it holds when its turn comes. On 10 copies of a level the bulk took 28.5k / 28.0k
+    // shots in ~16 s against 30.2k / 29.8k in 17–19 s (docs/performance.md, session 31).
     auto bulkDone = [&] {
         return !(injected > 0.0) || queue_.totalPower() <= settings_.epsilon * injected || queue_.maxPower() <= 0.0;
     };
@@ -799,6 +799,7 @@ std::string ProgressiveShooter::run(ConvergenceHistory& history, const Progress&
         if (const char* l = limit()) { reason = l; break; }
         sweep.clear();
         queue_.collectAtLeast(kSweepFraction * queue_.maxPower(), sweep);
+        if (sweep.empty()) sweep.push_back(std::uint32_t(queue_.argmax()));  // half of a denormal rounds to 0
         std::sort(sweep.begin(), sweep.end(),
                   [&](std::uint32_t a, std::uint32_t b) { return zCurveRank_[a] < zCurveRank_[b]; });
         shoot(sweep, shots, shotSeed, [&] {
