@@ -9,6 +9,7 @@
 #include <tbb/parallel_for.h>
 
 #include "mesh/frame_math.h"
+#include "mesh/z_curve.h"
 
 namespace hemibake {
 
@@ -63,8 +64,16 @@ void RayGatherer::gather(const std::vector<GatherPoint>& points, glm::vec3 skyRa
         std::vector<ElementHit> hits;
     };
     tbb::enumerable_thread_specific<Scratch> scratch;
+    // Points along a Z-curve: a batch's texels come in atlas order, where neighbours lie anywhere in the level, and
+    // on a large level each point's rays would start from a part of the BVH long out of the cache (10 copies of a
+    // level: the final gather 144.4 → 133.3 s). A point's rays depend on its key, not on when it is traced, so the
+    // order changes no value.
+    std::vector<glm::dvec3> positions(points.size());
+    for (std::size_t k = 0; k < points.size(); ++k) positions[k] = points[k].position;
+    const std::vector<std::uint32_t> order = zCurveOrder(positions);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 8), [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t i = r.begin(); i != r.end(); ++i) {
+        for (std::size_t k = r.begin(); k != r.end(); ++k) {
+            const std::size_t i = order[k];
             const glm::dvec3 n = glm::normalize(glm::dvec3(points[i].normal));
             if (!std::isfinite(n.x + n.y + n.z)) continue;  // a degenerate receiver sees nothing
             std::uint64_t state = splitMix64(base + (keys.empty() ? std::uint64_t(i) : std::uint64_t(keys[i])));
