@@ -16,6 +16,7 @@
 #include "baker/solve/gatherer.h"
 #include "baker/solve/solve_scene.h"
 #include "baker/util/colour.h"
+#include "baker/util/stopwatch.h"
 #include "raster/hemicube_pool.h"
 
 namespace hemibake {
@@ -323,12 +324,14 @@ public:
             ds.sunAngularDiameterRad = solve.lighting.sunAngularDiameterRad;
             direct_ = std::make_unique<DirectLight>(scene, rays, ds, areaLights_.get());
             // Direct light at every texel of every atlas first: the gathers of one atlas see the others' texels.
+            const Stopwatch directClock;
             directValue_.resize(texels.size());
             for (std::size_t a = 0; a < texels.size(); ++a) {
                 directValue_[a].resize(texels[a].count());
                 tbb::parallel_for(std::size_t(0), texels[a].count(),
                                   [&](std::size_t i) { directValue_[a][i] = directAt(a, texels[a], i); });
             }
+            stats.seconds.direct = directClock.seconds();
         }
         if (settings.mode == TexelMode::Gather) {
             std::vector<glm::vec3> radiance(solved.mesh.elements.size());
@@ -336,10 +339,12 @@ public:
                 radiance[e] = solved.solution.gatherRadiance(solved.mesh, e, areaLights_ != nullptr);
             std::shared_ptr<TexelLight> light;
             if (settings.gatherTexelDirect && direct_ && !texels.empty()) {
+                const Stopwatch texelLightClock;
                 std::vector<glm::dvec3> elementDirectOverPi(solved.solution.rayTracedIrradiance);
                 for (glm::dvec3& d : elementDirectOverPi) d /= M_PI;
                 light = makeTexelLight(scene, solved.mesh, atlas, texels, directValue_, elementDirectOverPi, radiance,
                                        stats.texelDirect);
+                stats.seconds.texelLight = texelLightClock.seconds();
             }
             if (settings.finalGather == FinalGather::Rays)
                 rayGatherer_ = solved.elementRays
@@ -396,10 +401,13 @@ public:
         const std::vector<glm::dvec3>& directValue = direct_ ? directValue_[a] : kNone;
         std::vector<glm::dvec3> value;
         std::vector<std::uint8_t> invalid;
+        Stopwatch clock;
         AdaptivePlacer(t, settings_, texelSizeM, rays_, gather, directValue, stats).run(value, invalid, advanced);
+        stats.seconds.gather += clock.lap();
         stats.invalid += std::size_t(std::count(invalid.begin(), invalid.end(), 1));
         inside = invalid;
         refillInvalid(t, texelSizeM, rays_, value, invalid);
+        stats.seconds.refill += clock.lap();
         for (std::size_t i = 0; i < directValue.size(); ++i) value[i] += directValue[i];
         return value;
     }
@@ -529,7 +537,9 @@ std::vector<LightmapImage> bakeLightmaps(const Scene& scene, const SolvedScene& 
     for (const AtlasTexels& t : texels) total += t.count();
     stats.texels = total;
     const double texelSizeM = atlas.texelsPerUnit > 0.0 ? 1.0 / atlas.texelsPerUnit : 0.0;
+    Stopwatch clock;
     TexelSolver solver(scene, solved, rays, settings, solve, atlas, texels, stats);
+    stats.seconds.setup = std::max(0.0, clock.lap() - stats.seconds.direct - stats.seconds.texelLight);
     std::vector<std::vector<glm::dvec3>> values(texels.size());
     std::vector<std::vector<std::uint8_t>> inside(texels.size());
     for (std::size_t a = 0; a < texels.size(); ++a) {
@@ -544,7 +554,9 @@ std::vector<LightmapImage> bakeLightmaps(const Scene& scene, const SolvedScene& 
             if (progress) progress(done, total);
         }
     }
+    clock.lap();
     solver.refineGaps(texels, values, inside, stats);
+    stats.seconds.gaps = clock.lap();
     for (std::size_t a = 0; a < texels.size(); ++a) {
         const AtlasTexels& t = texels[a];
         const std::vector<glm::dvec3>& value = values[a];

@@ -36,6 +36,16 @@ struct LightmapStats {
     double gapLastChange = 0.0;  // what the last gap pass changed, relative to the gap texels' light
     int gatherRaysPerTexel = 0;            // final gather by rays: rays per gathered texel (0: hemicubes)
     std::uint64_t gatherRaysTraced = 0;    // final gather by rays: all of them, gap passes included
+    // Wall-clock seconds of the lightmap stage's parts (bake.json "lightmap.seconds"): where a large level's time goes.
+    struct Seconds {
+        double setup = 0.0;       // emitters as the texels see them, element interpolation, gather set-up
+        double direct = 0.0;      // ray-traced direct light at every texel
+        double texelLight = 0.0;  // the light inside elements the gathers see (texel_light.h)
+        double gather = 0.0;      // adaptive placement and its final gathers
+        double refill = 0.0;      // texels inside geometry refilled from their neighbours
+        double gaps = 0.0;        // gap passes (refineGaps)
+        double dilateAndSeams = 0.0;  // padding and seam stitching (bake_scene, after bakeLightmaps)
+    } seconds;
     double renderedFraction() const { return texels ? double(rendered) / double(texels) : 0.0; }
 };
 

@@ -178,8 +178,10 @@ private:
             gather -= drawnBefore;
             result_.report.hemicubeDraws.finalGather = gather;
         }
+        const Stopwatch padding;
         for (LightmapImage& image : result_.lightmaps) lm.stats.dilated += dilate(image, s.lightmap.dilationTexels);
         lm.seams = stitchSeams(scene_, result_.atlas, result_.lightmaps, s.lightmap.stitchSeams);
+        lm.stats.seconds.dilateAndSeams = padding.seconds();
         stage("lightmaps");
     }
 

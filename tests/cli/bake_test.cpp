@@ -67,6 +67,16 @@ TEST(CliBake, CornellWritesReportWithConvergenceHistory) {
     EXPECT_LE(solveSeconds["prepare"].get<double>() + solveSeconds["direct"].get<double>() +
                   solveSeconds["shoot"].get<double>() + solveSeconds["gather"].get<double>(),
               j["timings"]["solve"].get<double>() + 1e-3);
+    // The lightmap stage's parts, likewise: none negative, together within the stage; the gathers are never free.
+    const auto& lightmapSeconds = j["lightmap"]["seconds"];
+    double parts = 0.0;
+    for (const char* part : {"setup", "direct", "texelLight", "gather", "refill", "gaps", "dilateAndSeams"}) {
+        ASSERT_TRUE(lightmapSeconds.contains(part)) << part;
+        EXPECT_GE(lightmapSeconds[part].get<double>(), 0.0) << part;
+        parts += lightmapSeconds[part].get<double>();
+    }
+    EXPECT_GT(lightmapSeconds["gather"].get<double>(), 0.0);
+    EXPECT_LE(parts, j["timings"]["lightmaps"].get<double>() + 1e-3);
     EXPECT_GT(j["peakMemoryMiB"].get<double>(), 0.0);
     EXPECT_GLBS_VALID(out);
 }
