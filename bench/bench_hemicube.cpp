@@ -303,7 +303,7 @@ void BM_LevelEmitterViews(benchmark::State& state) {
     EmissiveAreaLights::ReceiverView view;
     const std::size_t stride = std::max<std::size_t>(1, mesh.elements.size() / 20000);
     const ElementArrays& el = mesh.elements;
-    std::size_t viewed = 0, perPoint = 0, constant = 0;
+    std::size_t viewed = 0, perPoint = 0, constant = 0, farConstant = 0;
     for (auto _ : state)
         for (std::size_t e = 0; e < el.size(); e += stride) {
             const auto& tri = el.triangles[e];
@@ -312,11 +312,13 @@ void BM_LevelEmitterViews(benchmark::State& state) {
             ++viewed;
             perPoint += view.perPoint.size() + view.frontOnly.size();
             constant += view.constant.size();
+            farConstant += view.farConstant.size();
         }
     state.SetItemsProcessed(static_cast<std::int64_t>(viewed));
     state.counters["emitters"] = double(lights.triangleCount());
     state.counters["perPoint"] = double(perPoint) / double(viewed);
     state.counters["clusters"] = double(constant) / double(viewed);
+    state.counters["farClusters"] = double(farConstant) / double(viewed);
     state.counters["us/element"] = benchmark::Counter(double(viewed) / 1e6, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 BENCHMARK(BM_LevelEmitterViews)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
