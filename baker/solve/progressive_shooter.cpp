@@ -562,8 +562,8 @@ std::vector<glm::dvec3> ProgressiveShooter::pendingIrradiance(std::size_t* unkno
     }
     if (unknownPatches) *unknownPatches = unknown;
     // One pass over every unshot patch's row, the local phase's cost on a large level (33 rounds on 30 copies of a
-    // level, 55 before session 31): split into runs of about equal entries, one per thread, each summed into its own array and the arrays
-    // added in run order, so the sums do not depend on which thread ran what.
+    // level, 55 before session 31): split into runs of about equal entries, one per thread, each summed into its own
+    // array and the arrays added in run order, so the sums do not depend on which thread ran what.
     const std::size_t parts = std::clamp<std::size_t>(std::size_t(tbb::this_task_arena::max_concurrency()), 1,
                                                       std::max<std::size_t>(rows.size(), 1));
     std::vector<std::size_t> firstRow(parts + 1, rows.size());
