@@ -1,8 +1,10 @@
 #include "baker/solve/progressive_shooter.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
+#include <numeric>
 #include <span>
 #include <functional>
 
@@ -36,8 +38,11 @@ constexpr std::uint32_t kMaxSamplesPerPatch = 16;
 constexpr double kTightFraction = 1.0 / 8.0;
 constexpr double kTightCover = 0.5;
 constexpr int kTightSamplesPerSide = 3;
+// Rows by rays leave from uniform points over each element, except where more than kTightCover of them end within
+// kCoveredFraction × its size: an element facing a gap shoots from its centroid (tracePickedRow).
+constexpr double kCoveredFraction = 1.0;
 // The fewest rays an uneven shot traces, as a fraction of the row's (SolverSettings::unevenRaysPerLightShare): 256
-// at medium, 16 for each of 16 picks, still enough for the tight-gap test.
+// at medium.
 constexpr double kLeastUnevenRayFraction = 1.0 / 16.0;
 // The bulk shoots in sweeps: every patch holding at least kSweepFraction of the largest unshot power, in the order
 // of a Z-curve through their centroids (see run()).
@@ -78,7 +83,12 @@ struct ProgressiveShooter::MergeScratch {
     FormFactorList list;
     std::vector<glm::dvec3> rayOrigins;      // rows by rays: the row's ray origins (lifted)
     std::vector<glm::dvec3> rayDirections;   // rows by rays: their directions
-    std::vector<double> rayWeights;          // rows by rays: each ray's share of the row
+    std::vector<std::uint32_t> strataOrder;  // rows by rays: the direction stratum of each ray
+    struct SourceRays {
+        std::uint32_t element;
+        std::size_t begin, end;  // its rays, [begin, end)
+    };
+    std::vector<SourceRays> sourceRays;      // rows by rays: the untrimmed sources' rays
     std::vector<ElementHit> elementHits;     // rows by rays: what each of them hit
     std::vector<double> dense;
     std::vector<std::uint32_t> touched;
@@ -182,12 +192,13 @@ void ProgressiveShooter::renderShot(std::uint32_t patch, Shot& shot) const {
     shot.hemicubesRendered = 0;
     shot.elementRowsRendered = 0;
     shot.raysTraced = 0;
-    // By rays a row is one pass of N rays from its picks, whatever their number (tracePickedRow): the uneven shot's
-    // light picks, else up to 16 elements spread over the patch by area, where a hemicube shooter renders one
-    // hemicube per pick only when something is near. No element rows to cache or merge then.
+    // By rays a row is one pass of N rays from over the whole patch (tracePickedRow), its elements weighted by the
+    // uneven shot's light or else by area, where a hemicube shooter renders one hemicube per pick (up to 16) only
+    // when something is near. No element rows to cache or merge then.
     if (shot.uneven) {
-        // Each picked element's row is cached on its own and weighted by the share of the light it holds now: the
-        // picks change from shot to shot (the first shots' hot spot, later the room's even bounce), the rows do not.
+        // Hemicubes: each picked element's row is cached on its own and weighted by the share of the light it holds
+        // now: the picks change from shot to shot (the first shots' hot spot, later the room's even bounce), the
+        // rows do not.
         if (rowRays_) {
             shot.raysTraced = tracePickedRow(shot.picks, shot.seed, rowRayCount_ * shot.rayFraction, shot.own);
             shot.hemicubesRendered = shot.raysTraced > 0 ? 1 : 0;
@@ -205,7 +216,7 @@ void ProgressiveShooter::renderShot(std::uint32_t patch, Shot& shot) const {
         return;
     }
     if (rowRays_) {
-        shot.raysTraced = tracePickedRow(areaPicks(patch), shot.seed, rowRayCount_, shot.own);
+        shot.raysTraced = tracePickedRow(rowSources(patch, false), shot.seed, rowRayCount_, shot.own);
         shot.hemicubesRendered = shot.raysTraced > 0 ? 1 : 0;
     } else {
         shot.hemicubesRendered = renderRow(patch, shot.seed, shot);
@@ -310,6 +321,16 @@ std::vector<std::pair<std::uint32_t, double>> ProgressiveShooter::areaPicks(std:
     return picks;
 }
 
+std::vector<std::pair<std::uint32_t, double>> ProgressiveShooter::rowSources(std::uint32_t patch, bool byLight) const {
+    const PatchArrays& pa = mesh_.patches;
+    std::vector<std::pair<std::uint32_t, double>> sources(pa.elementCount[patch]);
+    for (std::uint32_t n = 0; n < pa.elementCount[patch]; ++n) {
+        const std::uint32_t e = pa.firstElement[patch] + n;
+        sources[n] = {e, byLight ? unshotW_[e] : mesh_.elements.areaM2[e]};
+    }
+    return sources;
+}
+
 double ProgressiveShooter::unshotW(std::uint32_t patch) const {
     const PatchArrays& pa = mesh_.patches;
     double total = 0.0;
@@ -405,81 +426,117 @@ void ProgressiveShooter::sampleRow(const HemicubeFrame& frame, MergeScratch& scr
     pool_.local().renderFormFactors(frame, scratch.list);
 }
 
-std::uint64_t ProgressiveShooter::tracePickedRow(const std::vector<std::pair<std::uint32_t, double>>& picks, std::uint64_t seed,
+std::uint64_t ProgressiveShooter::tracePickedRow(const std::vector<std::pair<std::uint32_t, double>>& sources, std::uint64_t seed,
                                                  double rayCount, FormFactorRow& row) const {
     const ElementArrays& el = mesh_.elements;
     MergeScratch& scratch = scratch_->local();
     scratch.begin(el.size(), row);
-    scratch.rayOrigins.clear();
-    scratch.rayDirections.clear();
-    scratch.rayWeights.clear();
     double weights = 0.0;
-    for (const auto& [e, w] : picks) weights += std::max(w, 0.0);
+    std::size_t lastSource = 0;  // the last with weight: takes the rays the cumulative sum's rounding leaves over
+    for (std::size_t s = 0; s < sources.size(); ++s)
+        if (sources[s].second > 0.0) weights += sources[s].second, lastSource = s;
     if (!(weights > 0.0)) return 0;
     std::uint64_t state = splitMix64(seed ^ 0xD1B54A32D192ED03ull);
     const auto uniform = [&state] {
         state = splitMix64(state);
         return double(state >> 11) * 0x1.0p-53;
     };
-    struct PickRays {
-        std::uint32_t element;
-        std::size_t begin, end;
-    };
-    std::vector<PickRays> ranges;
-    for (const auto& [e, w] : picks) {
-        const double share = std::max(w, 0.0) / weights;
-        if (!(share > 0.0)) continue;
-        // s² ≥ share·N rays, so no ray carries more than 1/N of the row (the sliver test's one-ray share).
-        const int strata = std::max(1, int(std::ceil(std::sqrt(share * rayCount) - 1e-9)));
-        const double perRay = share / (double(strata) * double(strata));
-        const glm::dvec3 normal(el.normal[e]);
-        glm::dvec3 t, b;
-        state = splitMix64(state);
-        HemicubeFrame::randomlyRotated(el.centroid[e], normal, state).tangentFrame(t, b);
-        const std::size_t before = scratch.rayDirections.size();
-        appendStratifiedCosineDirections(t, b, glm::normalize(normal), strata, uniform, scratch.rayDirections);
-        // From the element's centroid, as a hemicube row: each element shoots as if its light sat at its centre.
-        const glm::dvec3 origin = rowRays_->lift(el.centroid[e], normal);
+    const int strata = strataForRays(std::max(1LL, std::llround(rayCount)));
+    const std::size_t n = std::size_t(strata) * std::size_t(strata);
+    // Ray k leaves from the element where the cumulative weight passes (k + offset)/n (systematic sampling: each
+    // element gets its weight's share of the rays to within one), towards the cosine stratum order[k]: origins and
+    // directions are each stratified, and shuffled against each other so an element's rays do not share a corner
+    // of the hemisphere.
+    std::vector<std::uint32_t>& order = scratch.strataOrder;
+    order.resize(n);
+    std::iota(order.begin(), order.end(), 0u);
+    for (std::size_t i = n - 1; i > 0; --i) std::swap(order[i], order[std::min(i, std::size_t(uniform() * double(i + 1)))]);
+    const double rotation = 2.0 * M_PI * uniform();
+    const double offset = uniform();
+    scratch.rayOrigins.resize(n);
+    scratch.rayDirections.resize(n);
+    std::vector<MergeScratch::SourceRays>& ranges = scratch.sourceRays;
+    ranges.clear();
+    std::size_t k = 0;
+    double below = 0.0;
+    for (std::size_t s = 0; s <= lastSource && k < n; ++s) {
+        const auto [e, w] = sources[s];
+        if (!(w > 0.0)) continue;
+        below += w / weights;
+        const bool last = s == lastSource;
+        if (!last && !((double(k) + offset) / double(n) < below)) continue;
+        const glm::dvec3 normal = glm::normalize(glm::dvec3(el.normal[e]));
+        glm::dvec3 t0, b0;
+        orthonormalBasis(normal, t0, b0);
+        const glm::dvec3 t = std::cos(rotation) * t0 + std::sin(rotation) * b0, b = glm::cross(normal, t);
+        // Trimmed elements keep the centroid: parts of their triangle lie under what covers them.
         const bool trimmed = el.areaM2[e] < triangleArea(el, e) * (1.0 - 1e-6);
-        scratch.rayOrigins.insert(scratch.rayOrigins.end(), scratch.rayDirections.size() - before, origin);
-        scratch.rayWeights.insert(scratch.rayWeights.end(), scratch.rayDirections.size() - before, perRay);
-        if (!trimmed) ranges.push_back({e, before, scratch.rayDirections.size()});
+        if (!trimmed) ranges.push_back({e, k, k});
+        for (; k < n && (last || (double(k) + offset) / double(n) < below); ++k) {
+            // Uniform over the triangle (√u folds the unit square onto it), so the row is the element's
+            // area-averaged one: a point sample at the centroid misses the near field where the element meets
+            // another surface (the edge strip of the floor beside a wall), which darkened every room's edges.
+            glm::dvec3 p = el.centroid[e];
+            if (!trimmed) {
+                const double r = std::sqrt(uniform()), v = uniform();
+                p = pointOnElement(el, e, 1.0 - r, r * (1.0 - v));
+            }
+            scratch.rayOrigins[k] = rowRays_->lift(p, normal);
+            const std::uint32_t d = order[k];
+            scratch.rayDirections[k] = cosineDirection(t, b, normal, (double(d % std::uint32_t(strata)) + uniform()) / strata,
+                                                       (double(d / std::uint32_t(strata)) + uniform()) / strata);
+        }
+        if (!trimmed) ranges.back().end = k;
     }
-    scratch.elementHits.resize(scratch.rayDirections.size());
+    scratch.elementHits.resize(n);
     rowRays_->trace(scratch.rayOrigins, scratch.rayDirections, scratch.elementHits);
-    std::uint64_t traced = scratch.rayDirections.size();
-    // An element facing a tight gap (its centroid's rays mostly hit within kTightFraction of its size: a panel top
-    // under the ceiling) shoots again from its kTightSamplesPerSide² sub-triangle centroids, as its hemicube row
-    // would; trimmed elements keep the centroid (parts of their triangle lie under what covers them).
-    for (const PickRays& r : ranges) {
-        const double nearM = kTightFraction * std::sqrt(2.0 * el.areaM2[r.element]);
-        std::size_t nearer = 0;
-        for (std::size_t k = r.begin; k < r.end; ++k)
-            nearer += scratch.elementHits[k].kind != ElementHit::Kind::Sky && scratch.elementHits[k].distanceM < nearM ? 1 : 0;
-        if (!(double(nearer) > kTightCover * double(r.end - r.begin))) continue;
-        std::vector<glm::dvec3> inset;
-        forEachSubTriangleCentroid(kTightSamplesPerSide, [&](double wa, double wb) {
-            inset.push_back(rowRays_->lift(pointOnElement(el, r.element, wa, wb), glm::dvec3(el.normal[r.element])));
-        });
-        for (std::size_t k = r.begin; k < r.end; ++k) scratch.rayOrigins[k] = inset[(k - r.begin) % inset.size()];
+    std::uint64_t traced = n;
+    // An element facing a gap (more than kTightCover of its rays end within kCoveredFraction of its size: the
+    // ceiling over a panel hung 5 cm under it) traces its rays again from its centroid, or, the gap tight (within
+    // kTightFraction), from its kTightSamplesPerSide² sub-triangle centroids, as its hemicube row would. Uniform
+    // points are the exact area average of a constant element, but a gap's light really lies in its middle, and the
+    // rim's points send it out into the room: the panel room at level sizes
+    // (HangingPanel.RayRowsKeepTheTrappedLightAtLevelSizes) came out with the panel top −6.0 % instead of +2.5 %.
+    for (const MergeScratch::SourceRays& r : ranges) {
+        if (r.end == r.begin) continue;
+        const double sizeM = std::sqrt(2.0 * el.areaM2[r.element]);
+        std::size_t tight = 0, covered = 0;
+        for (std::size_t j = r.begin; j < r.end; ++j) {
+            const ElementHit& hit = scratch.elementHits[j];
+            if (hit.kind == ElementHit::Kind::Sky) continue;
+            tight += hit.distanceM < kTightFraction * sizeM ? 1 : 0;
+            covered += hit.distanceM < kCoveredFraction * sizeM ? 1 : 0;
+        }
+        const double rays = double(r.end - r.begin);
+        const bool inTightGap = double(tight) > kTightCover * rays, inGap = double(covered) > kTightCover * rays;
+        if (!inGap) continue;
+        std::array<glm::dvec3, kTightSamplesPerSide * kTightSamplesPerSide> inset;
+        std::size_t points = 0;
+        if (inTightGap)
+            forEachSubTriangleCentroid(kTightSamplesPerSide, [&](double wa, double wb) {
+                inset[points++] = rowRays_->lift(pointOnElement(el, r.element, wa, wb), glm::dvec3(el.normal[r.element]));
+            });
+        else
+            inset[points++] = rowRays_->lift(el.centroid[r.element], glm::dvec3(el.normal[r.element]));
+        for (std::size_t j = r.begin; j < r.end; ++j) scratch.rayOrigins[j] = inset[(j - r.begin) % points];
         rowRays_->trace(std::span<const glm::dvec3>(scratch.rayOrigins).subspan(r.begin, r.end - r.begin),
                         std::span<const glm::dvec3>(scratch.rayDirections).subspan(r.begin, r.end - r.begin),
                         std::span<ElementHit>(scratch.elementHits).subspan(r.begin, r.end - r.begin));
         traced += r.end - r.begin;
     }
-    // Each ray is its element's share over its ray count: the row's form factors, sky and back-face shares sum to 1.
-    double sky = 0.0, back = 0.0;
-    for (std::size_t k = 0; k < scratch.elementHits.size(); ++k) {
-        const ElementHit& hit = scratch.elementHits[k];
-        if (hit.kind == ElementHit::Kind::Sky) sky += scratch.rayWeights[k];
-        else if (hit.kind == ElementHit::Kind::Back) back += scratch.rayWeights[k];
-        else scratch.add(hit.element, scratch.rayWeights[k]);
+    // Each ray is 1/n of the row: its form factors, sky and back-face shares sum to 1.
+    const double perRay = 1.0 / double(n);
+    std::size_t sky = 0, back = 0;
+    for (const ElementHit& hit : scratch.elementHits) {
+        if (hit.kind == ElementHit::Kind::Sky) ++sky;
+        else if (hit.kind == ElementHit::Kind::Back) ++back;
+        else scratch.add(hit.element, perRay);
     }
     scratch.finish(1.0, row);
-    row.skyFraction = sky;
-    row.backfaceFraction = back;
+    row.skyFraction = double(sky) * perRay;
+    row.backfaceFraction = double(back) * perRay;
     row.hemicubes = 1;
-    row.sampleShare = 1.0 / rayCount;
+    row.sampleShare = perRay;
     return traced;
 }
 
@@ -706,7 +763,7 @@ void ProgressiveShooter::shoot(const std::vector<std::uint32_t>& patches, std::v
             shots[picked].picks.clear();
             shots[picked].rayFraction = 1.0;
             if (shots[picked].uneven) {
-                shots[picked].picks = lightPicks(p);
+                shots[picked].picks = rowRays_ ? rowSources(p, true) : lightPicks(p);
                 if (rowRays_ && settings_.unevenRaysPerLightShare > 0.0)
                     shots[picked].rayFraction = std::clamp(settings_.unevenRaysPerLightShare * lightShareOfShot(p),
                                                            kLeastUnevenRayFraction, 1.0);

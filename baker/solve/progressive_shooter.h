@@ -122,6 +122,9 @@ private:
     // Up to kMaxSamplesPerPatch elements picked by systematic sampling of `patch`'s unshot light, each with the
     // share it shoots from its centroid (weights sum to 1).
     std::vector<std::pair<std::uint32_t, double>> lightPicks(std::uint32_t patch) const;
+    // Every element of `patch` weighted by its area, or (`byLight`) by the unshot light it holds: where a row by
+    // rays leaves from (tracePickedRow).
+    std::vector<std::pair<std::uint32_t, double>> rowSources(std::uint32_t patch, bool byLight) const;
     // The rows of `picks` (element, weight) merged into shot.own, weights normalised: each element's own row from
     // the cache, or rendered (in parallel) and, if `keep`, stored there, so proximity and uneven shots of a patch
     // share them; rows not stored stay in shot.elementRows. Returns the hemicubes rendered.
@@ -133,13 +136,14 @@ private:
     // One row sample at `frame` into scratch.list: an item-buffer hemicube of this thread's renderer. Thread-safe
     // across threads.
     void sampleRow(const HemicubeFrame& frame, MergeScratch& scratch) const;
-    // Rows by rays: the row of light leaving `picks` (element, weight; weights normalised here) into `row`, in one
-    // pass: each pick traces s² ≥ weight·N of the row's N = `rayCount` rays, stratified cosine directions from its
-    // centroid (or, facing a tight gap, its kTightSamplesPerSide² sub-triangle centroids), each ray weight/s². The
-    // row a hemicube shooter merges from the picks' own rows, with N rays in all instead of N per pick, and nothing
-    // cached per element. Seeded by `seed` alone. Returns the rays traced, 0 if the weights are all zero.
-    // Thread-safe across threads.
-    std::uint64_t tracePickedRow(const std::vector<std::pair<std::uint32_t, double>>& picks, std::uint64_t seed,
+    // Rows by rays: the row of light leaving `sources` (element, weight; normalised here) into `row`, in one pass of
+    // N = s² ≤ `rayCount` rays (s² the largest such square): each source gets its weight's share of them to within
+    // one ray, each ray leaves from a uniform point of its element's triangle in a stratified cosine direction and
+    // carries 1/N of the row. So the row is the sources' area-averaged form factors, the near field where surfaces
+    // meet included, with N rays in all however many sources. Trimmed elements leave from their centroid, elements
+    // facing a gap trace again from their centroid or inset points (see the .cpp). Seeded by `seed` alone. Returns
+    // the rays traced, 0 if the weights are all zero. Thread-safe across threads.
+    std::uint64_t tracePickedRow(const std::vector<std::pair<std::uint32_t, double>>& sources, std::uint64_t seed,
                                  double rayCount, FormFactorRow& row) const;
     // Whether the last sampleRow into `scratch`, from an element or patch of this size, faced a tight gap.
     bool facesTightGap(const MergeScratch& scratch, double sizeM) const;
