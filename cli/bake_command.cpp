@@ -165,11 +165,13 @@ CommandRunner addBakeCommand(CLI::App& app) {
                     "Hemicube resolution R (front face R×R pixels); form-factor error falls as ~R^-1.5 (docs/accuracy.md)")
         ->check(CLI::Range(2, 4096));
     cmd->add_option("--shoot-rows", o->rowSampling,
-                    "How a shooting patch finds what it sees, from its centre or (something near, or its light uneven) "
-                    "from up to 16 of its elements. rays (default): R squared stratified cosine rays through Embree into "
-                    "the elements, split over those points; hemicube: an item-buffer hemicube through OSMesa per point, "
-                    "exact delta form factors. Solve at medium: clean 10k-triangle level 23 s by rays against 84 s, "
-                    "the 100k level converged in 565 s where hemicubes were stopped at 1,200 s")
+                    "How a shooting patch finds what it sees. rays (default): R squared stratified cosine rays through "
+                    "Embree into the elements, from stratified points over the whole patch where its light lies, so "
+                    "the near field where surfaces meet is integrated, not point-sampled; "
+                    "hemicube: an item-buffer hemicube through OSMesa from the patch's centre or (something near, or "
+                    "its light uneven) from up to 16 of its elements, exact delta form factors. Solve at medium: clean "
+                    "10k-triangle level 23 s by rays against 84 s, the 100k level converged in 565 s where hemicubes "
+                    "were stopped at 1,200 s")
         ->check(CLI::IsMember({"hemicube", "rays"}));
     cmd->add_option("--row-rays", o->rowRays,
                     "Rays per shooting row by rays, in all, split over the points the shot leaves from (0 = R squared, "

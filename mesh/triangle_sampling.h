@@ -2,6 +2,7 @@
 // Fixed, stratified points on an element's triangle, shared by everything that averages a field over elements
 // (direct light, exposure): the same points everywhere, so their averages are comparable.
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 
 #include <glm/glm.hpp>
@@ -20,6 +21,22 @@ void forEachSubTriangleCentroid(int k, const Visit& visit) {
             visit((i + 1.0 / 3.0) / k, (j + 1.0 / 3.0) / k);
             if (i + j + 2 <= k) visit((i + 2.0 / 3.0) / k, (j + 2.0 / 3.0) / k);
         }
+}
+
+// The barycentric weights (wa, wb) of a uniform point, from two uniforms in [0, 1), in sub-triangle `index` of the
+// k² that forEachSubTriangleCentroid visits (same order; index < k²): one point in each of the k² is a stratified
+// sample of the triangle.
+inline glm::dvec2 pointInSubTriangle(int k, int index, double u1, double u2) {
+    // Row i (first weight in [i/k, (i+1)/k]) holds k − i upright and k − i − 1 inverted sub-triangles, alternating;
+    // 2ki − i² come before it.
+    int i = 0;
+    while (i + 1 < k && 2 * k * (i + 1) - (i + 1) * (i + 1) <= index) ++i;
+    const int offset = index - (2 * k * i - i * i), j = offset / 2;
+    const double s = 1.0 / double(k);
+    glm::dvec2 p0(i * s, j * s), p1((i + 1) * s, j * s), p2(i * s, (j + 1) * s);
+    if (offset % 2 == 1) p0 = glm::dvec2((i + 1) * s, (j + 1) * s);  // inverted: the corner opposite the upright's
+    const double r = std::sqrt(u1);
+    return (1.0 - r) * p0 + r * (1.0 - u2) * p1 + r * u2 * p2;
 }
 
 // The element's whole triangle, m² (ElementArrays::areaM2 may be less: only the exposed part counts there,

@@ -122,9 +122,12 @@ private:
     // Up to kMaxSamplesPerPatch elements picked by systematic sampling of `patch`'s unshot light, each with the
     // share it shoots from its centroid (weights sum to 1).
     std::vector<std::pair<std::uint32_t, double>> lightPicks(std::uint32_t patch) const;
-    // Every element of `patch` weighted by its area, or (`byLight`) by the unshot light it holds: where a row by
-    // rays leaves from (tracePickedRow).
-    std::vector<std::pair<std::uint32_t, double>> rowSources(std::uint32_t patch, bool byLight) const;
+    // Every element of `patch` weighted by the unshot light it holds, W (by area if it holds none): where an uneven
+    // row by rays leaves from (tracePickedRow).
+    std::vector<std::pair<std::uint32_t, double>> lightSources(std::uint32_t patch) const;
+    // Every element of `patch` weighted 1/4 by area, 3/4 by the light put into it before shooting (by area alone if
+    // none was): where an even row by rays leaves from, the same whatever the order of the shots.
+    std::vector<std::pair<std::uint32_t, double>> evenSources(std::uint32_t patch) const;
     // The rows of `picks` (element, weight) merged into shot.own, weights normalised: each element's own row from
     // the cache, or rendered (in parallel) and, if `keep`, stored there, so proximity and uneven shots of a patch
     // share them; rows not stored stay in shot.elementRows. Returns the hemicubes rendered.
@@ -185,6 +188,7 @@ private:
     std::vector<std::uint64_t> queuedAtShot_;
     // Unshot power per element, W (channel sum): where on its patch the light to shoot lies.
     std::vector<double> unshotW_;
+    std::vector<double> injectedW_;  // per element: the light put into it before shooting (direct, emission), W
     std::vector<float> singlePixelFormFactor_;  // per element, see singlePixelFormFactor()
     std::vector<std::uint32_t> zCurveRank_;      // per patch: its place on a Z-curve through the centroids (run())
     double largestPixelFormFactor_ = 0.0;        // the hemicube's largest delta form factor (its centre pixel)
