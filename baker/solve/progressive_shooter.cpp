@@ -71,8 +71,8 @@ struct ProgressiveShooter::Shot {
     std::uint64_t seed = 0;
     double rayFraction = 1.0;  // rows by rays: the share of the row's rays this shot traces
     std::uint64_t raysTraced = 0;
-    // Unshot light lying unevenly over the patch: by hemicubes shot from the elements `picks` (element, share of the
-    // light), each through its own row, and never cached. By rays `picks` is every element with its light (all shots).
+    // Unshot light lying unevenly over the patch: shot from the elements `picks` (element, share of the light): by
+    // hemicubes up to 16, each through its own row; by rays every element of the patch, in one row (lightSources).
     bool uneven = false;
     std::vector<std::pair<std::uint32_t, double>> picks;
     std::vector<FormFactorRow> elementRows;  // element rows rendered for this shot and not stored in the cache
@@ -196,8 +196,9 @@ void ProgressiveShooter::renderShot(std::uint32_t patch, Shot& shot) const {
     shot.elementRowsRendered = 0;
     shot.raysTraced = 0;
     // By rays a row is one pass of N rays from over the whole patch (tracePickedRow), its elements weighted by the
-    // light they hold (shot.picks), where a hemicube shooter renders one hemicube per pick (up to 16) only when
-    // something is near. No element rows to cache or merge then.
+    // uneven shot's light (shot.picks) or, for an even row, by evenSources (built only when the row is not cached),
+    // where a hemicube shooter renders one hemicube per pick (up to 16) only when something is near. No element rows
+    // to cache or merge then.
     if (shot.uneven) {
         // Hemicubes: each picked element's row is cached on its own and weighted by the share of the light it holds
         // now: the picks change from shot to shot (the first shots' hot spot, later the room's even bounce), the
@@ -219,7 +220,7 @@ void ProgressiveShooter::renderShot(std::uint32_t patch, Shot& shot) const {
         return;
     }
     if (rowRays_) {
-        shot.raysTraced = tracePickedRow(shot.picks, shot.seed, rowRayCount_, shot.own);
+        shot.raysTraced = tracePickedRow(evenSources(patch), shot.seed, rowRayCount_, shot.own);
         shot.hemicubesRendered = shot.raysTraced > 0 ? 1 : 0;
     } else {
         shot.hemicubesRendered = renderRow(patch, shot.seed, shot);
@@ -327,14 +328,10 @@ std::vector<std::pair<std::uint32_t, double>> ProgressiveShooter::areaPicks(std:
 std::vector<std::pair<std::uint32_t, double>> ProgressiveShooter::lightSources(std::uint32_t patch) const {
     const PatchArrays& pa = mesh_.patches;
     std::vector<std::pair<std::uint32_t, double>> sources(pa.elementCount[patch]);
-    double total = 0.0;
     for (std::uint32_t n = 0; n < pa.elementCount[patch]; ++n) {
         const std::uint32_t e = pa.firstElement[patch] + n;
         sources[n] = {e, unshotW_[e]};
-        total += unshotW_[e];
     }
-    if (!(total > 0.0))
-        for (auto& [e, w] : sources) w = mesh_.elements.areaM2[e];
     return sources;
 }
 
@@ -798,11 +795,9 @@ void ProgressiveShooter::shoot(const std::vector<std::uint32_t>& patches, std::v
             shots[picked].uneven = unevenLight(p);
             shots[picked].picks.clear();
             shots[picked].rayFraction = 1.0;
-            // Rows by rays leave from where the light lies: an uneven shot's from its light now, an even (cached) one's
-            // from evenSources, which does not depend on the order of the shots.
-            if (rowRays_) shots[picked].picks = shots[picked].uneven ? lightSources(p) : evenSources(p);
             if (shots[picked].uneven) {
-                if (!rowRays_) shots[picked].picks = lightPicks(p);
+                // Taken now: the patch's unshot light is cleared below, before the shots render.
+                shots[picked].picks = rowRays_ ? lightSources(p) : lightPicks(p);
                 if (rowRays_ && settings_.unevenRaysPerLightShare > 0.0)
                     shots[picked].rayFraction = std::clamp(settings_.unevenRaysPerLightShare * lightShareOfShot(p),
                                                            kLeastUnevenRayFraction, 1.0);

@@ -122,8 +122,8 @@ private:
     // Up to kMaxSamplesPerPatch elements picked by systematic sampling of `patch`'s unshot light, each with the
     // share it shoots from its centroid (weights sum to 1).
     std::vector<std::pair<std::uint32_t, double>> lightPicks(std::uint32_t patch) const;
-    // Every element of `patch` weighted by the unshot light it holds, W (by area if it holds none): where an uneven
-    // row by rays leaves from (tracePickedRow).
+    // Every element of `patch` weighted by the unshot light it holds, W: where an uneven row by rays leaves from
+    // (tracePickedRow; an uneven patch holds some, unevenLight).
     std::vector<std::pair<std::uint32_t, double>> lightSources(std::uint32_t patch) const;
     // Every element of `patch` weighted 1/4 by area, 3/4 by the light put into it before shooting (by area alone if
     // none was): where an even row by rays leaves from, the same whatever the order of the shots.
