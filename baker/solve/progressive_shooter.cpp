@@ -41,6 +41,9 @@ constexpr int kTightSamplesPerSide = 3;
 // Rows by rays leave from uniform points over each element, except where more than kTightCover of them end within
 // kCoveredFraction × its size: an element facing a gap shoots from its centroid (tracePickedRow).
 constexpr double kCoveredFraction = 1.0;
+// Rays (squared) that tell once per element whether it faces a gap (gapFacing). 8² = 64: the cover fraction to
+// ±6 % (one standard deviation at 0.5).
+constexpr int kGapTestStrata = 8;
 // The fewest rays an uneven shot traces, as a fraction of the row's (SolverSettings::unevenRaysPerLightShare): 256
 // at medium.
 constexpr double kLeastUnevenRayFraction = 1.0 / 16.0;
@@ -84,12 +87,9 @@ struct ProgressiveShooter::MergeScratch {
     std::vector<glm::dvec3> rayOrigins;      // rows by rays: the row's ray origins (lifted)
     std::vector<glm::dvec3> rayDirections;   // rows by rays: their directions
     std::vector<std::uint32_t> strataOrder;  // rows by rays: the direction stratum of each ray
-    struct SourceRays {
-        std::uint32_t element;
-        std::size_t begin, end;  // its rays, [begin, end)
-    };
-    std::vector<SourceRays> sourceRays;      // rows by rays: the untrimmed sources' rays
     std::vector<ElementHit> elementHits;     // rows by rays: what each of them hit
+    std::vector<glm::dvec3> gapOrigins, gapDirections;  // gapFacing's rays
+    std::vector<ElementHit> gapHits;                    // and what they hit
     std::vector<double> dense;
     std::vector<std::uint32_t> touched;
     std::vector<double> values;
@@ -138,6 +138,7 @@ ProgressiveShooter::ProgressiveShooter(const PatchMesh& mesh, RadiositySolution&
     shotsOfPatch_.assign(mesh.patches.size(), 0);
     queuedAtShot_.assign(mesh.patches.size(), 0);
     unshotW_.assign(mesh.elements.size(), 0.0);
+    if (rowRays_) gapFacing_ = std::make_unique<std::atomic<std::uint8_t>[]>(mesh.elements.size());
     injectedW_.assign(mesh.elements.size(), 0.0);
     singlePixelFormFactor_.assign(mesh.elements.size(), 0.0f);
     zCurveRank_ = zCurveRanks(mesh.patches.centroid);
@@ -451,6 +452,52 @@ void ProgressiveShooter::sampleRow(const HemicubeFrame& frame, MergeScratch& scr
     pool_.local().renderFormFactors(frame, scratch.list);
 }
 
+ProgressiveShooter::GapFacing ProgressiveShooter::gapFacing(std::uint32_t element, std::uint64_t& raysTraced) const {
+    const GapFacing known = GapFacing(gapFacing_[element].load(std::memory_order_relaxed));
+    if (known != GapFacing::Unknown) return known;
+    // kGapTestStrata² rays from stratified uniform points over the element, towards stratified cosine directions
+    // shuffled against them, seeded by the element alone: every row the element is in, whatever its order among
+    // the threads, sees the same answer (two threads asking at once compute the same and store it twice).
+    const ElementArrays& el = mesh_.elements;
+    MergeScratch& scratch = scratch_->local();
+    constexpr std::size_t n = std::size_t(kGapTestStrata) * kGapTestStrata;
+    std::uint64_t state = splitMix64(settings_.seed * 0x9E3779B97F4A7C15ull ^ (std::uint64_t(element) << 1 | 1u));
+    const auto uniform = [&state] {
+        state = splitMix64(state);
+        return double(state >> 11) * 0x1.0p-53;
+    };
+    std::array<std::uint32_t, n> order;
+    std::iota(order.begin(), order.end(), 0u);
+    for (std::size_t i = n - 1; i > 0; --i) std::swap(order[i], order[std::min(i, std::size_t(uniform() * double(i + 1)))]);
+    const glm::dvec3 normal = glm::normalize(glm::dvec3(el.normal[element]));
+    glm::dvec3 t, b;
+    orthonormalBasis(normal, t, b);
+    scratch.gapOrigins.resize(n);
+    scratch.gapDirections.resize(n);
+    scratch.gapHits.resize(n);
+    for (std::size_t k = 0; k < n; ++k) {
+        const glm::dvec2 bary = pointInSubTriangle(kGapTestStrata, int(k), uniform(), uniform());
+        scratch.gapOrigins[k] = rowRays_->lift(pointOnElement(el, element, bary.x, bary.y), normal);
+        const std::uint32_t d = order[k];
+        scratch.gapDirections[k] = cosineDirection(t, b, normal, (double(d % kGapTestStrata) + uniform()) / kGapTestStrata,
+                                                   (double(d / kGapTestStrata) + uniform()) / kGapTestStrata);
+    }
+    rowRays_->trace(scratch.gapOrigins, scratch.gapDirections, scratch.gapHits);
+    raysTraced += n;
+    const double sizeM = std::sqrt(2.0 * el.areaM2[element]);
+    std::size_t tight = 0, covered = 0;
+    for (const ElementHit& hit : scratch.gapHits) {
+        if (hit.kind == ElementHit::Kind::Sky) continue;
+        tight += hit.distanceM < kTightFraction * sizeM ? 1 : 0;
+        covered += hit.distanceM < kCoveredFraction * sizeM ? 1 : 0;
+    }
+    const GapFacing facing = double(tight) > kTightCover * double(n)     ? GapFacing::Tight
+                             : double(covered) > kTightCover * double(n) ? GapFacing::Wide
+                                                                         : GapFacing::Open;
+    gapFacing_[element].store(std::uint8_t(facing), std::memory_order_relaxed);
+    return facing;
+}
+
 std::uint64_t ProgressiveShooter::tracePickedRow(const std::vector<std::pair<std::uint32_t, double>>& sources, std::uint64_t seed,
                                                  double rayCount, FormFactorRow& row) const {
     const ElementArrays& el = mesh_.elements;
@@ -480,8 +527,7 @@ std::uint64_t ProgressiveShooter::tracePickedRow(const std::vector<std::pair<std
     const double offset = uniform();
     scratch.rayOrigins.resize(n);
     scratch.rayDirections.resize(n);
-    std::vector<MergeScratch::SourceRays>& ranges = scratch.sourceRays;
-    ranges.clear();
+    std::uint64_t traced = n;
     std::size_t k = 0;
     double below = 0.0;
     for (std::size_t s = 0; s <= lastSource && k < n; ++s) {
@@ -497,25 +543,38 @@ std::uint64_t ProgressiveShooter::tracePickedRow(const std::vector<std::pair<std
         glm::dvec3 t0, b0;
         orthonormalBasis(normal, t0, b0);
         const glm::dvec3 t = std::cos(rotation) * t0 + std::sin(rotation) * b0, b = glm::cross(normal, t);
-        // Trimmed elements keep the centroid: parts of their triangle lie under what covers them.
-        const bool trimmed = el.areaM2[e] < triangleArea(el, e) * (1.0 - 1e-6);
         std::size_t end = k;
         while (end < n && (last || (double(end) + offset) / double(n) < share)) ++end;
-        if (!trimmed) ranges.push_back({e, k, end});
         // Uniform over the triangle, so the row is the element's area-averaged one: a point sample at the centroid
         // misses the near field where the element meets another surface (the edge strip of the floor beside a
         // wall), which darkened every room's edges. Stratified: one ray in each of the q² ≤ m sub-triangles of
-        // the element's m rays, the rest anywhere on it.
+        // the element's m rays, the rest anywhere on it. Except:
+        // - Trimmed elements keep the centroid: parts of their triangle lie under what covers them.
+        // - An element facing a gap (gapFacing: the ceiling over a panel hung 5 cm under it) leaves from its
+        //   centroid, or, the gap tight, from its kTightSamplesPerSide² sub-triangle centroids, as its hemicube row
+        //   would. Uniform points are the exact area average of a constant element, but a gap's light really lies
+        //   in its middle, and the rim's points send it out into the room: the panel room at level sizes
+        //   (HangingPanel.RayRowsKeepTheTrappedLightAtLevelSizes) came out with the panel top −6.0 % instead of +2.5 %.
+        const bool trimmed = el.areaM2[e] < triangleArea(el, e) * (1.0 - 1e-6);
+        const GapFacing facing = trimmed || end == k ? GapFacing::Open : gapFacing(e, traced);
+        std::array<glm::dvec3, kTightSamplesPerSide * kTightSamplesPerSide> inset;
+        std::size_t insetPoints = 0;
+        if (facing == GapFacing::Tight)
+            forEachSubTriangleCentroid(kTightSamplesPerSide, [&](double wa, double wb) {
+                inset[insetPoints++] = rowRays_->lift(pointOnElement(el, e, wa, wb), normal);
+            });
+        else if (trimmed || facing == GapFacing::Wide)
+            inset[insetPoints++] = rowRays_->lift(el.centroid[e], normal);
         const int q = strataForRays(std::int64_t(end - k));
         for (std::size_t first = k; k < end; ++k) {
-            glm::dvec3 p = el.centroid[e];
-            if (!trimmed) {
-                const std::size_t i = k - first;
+            const std::size_t i = k - first;
+            if (insetPoints > 0) {
+                scratch.rayOrigins[k] = inset[i % insetPoints];
+            } else {
                 const glm::dvec2 bary = i < std::size_t(q) * std::size_t(q) ? pointInSubTriangle(q, int(i), uniform(), uniform())
                                                                             : pointInSubTriangle(1, 0, uniform(), uniform());
-                p = pointOnElement(el, e, bary.x, bary.y);
+                scratch.rayOrigins[k] = rowRays_->lift(pointOnElement(el, e, bary.x, bary.y), normal);
             }
-            scratch.rayOrigins[k] = rowRays_->lift(p, normal);
             const std::uint32_t d = order[k];
             scratch.rayDirections[k] = cosineDirection(t, b, normal, (double(d % std::uint32_t(strata)) + uniform()) / strata,
                                                        (double(d / std::uint32_t(strata)) + uniform()) / strata);
@@ -523,40 +582,6 @@ std::uint64_t ProgressiveShooter::tracePickedRow(const std::vector<std::pair<std
     }
     scratch.elementHits.resize(n);
     rowRays_->trace(scratch.rayOrigins, scratch.rayDirections, scratch.elementHits);
-    std::uint64_t traced = n;
-    // An element facing a gap (more than kTightCover of its rays end within kCoveredFraction of its size: the
-    // ceiling over a panel hung 5 cm under it) traces its rays again from its centroid, or, the gap tight (within
-    // kTightFraction), from its kTightSamplesPerSide² sub-triangle centroids, as its hemicube row would. Uniform
-    // points are the exact area average of a constant element, but a gap's light really lies in its middle, and the
-    // rim's points send it out into the room: the panel room at level sizes
-    // (HangingPanel.RayRowsKeepTheTrappedLightAtLevelSizes) came out with the panel top −6.0 % instead of +2.5 %.
-    for (const MergeScratch::SourceRays& r : ranges) {
-        if (r.end == r.begin) continue;
-        const double sizeM = std::sqrt(2.0 * el.areaM2[r.element]);
-        std::size_t tight = 0, covered = 0;
-        for (std::size_t j = r.begin; j < r.end; ++j) {
-            const ElementHit& hit = scratch.elementHits[j];
-            if (hit.kind == ElementHit::Kind::Sky) continue;
-            tight += hit.distanceM < kTightFraction * sizeM ? 1 : 0;
-            covered += hit.distanceM < kCoveredFraction * sizeM ? 1 : 0;
-        }
-        const double rays = double(r.end - r.begin);
-        const bool inTightGap = double(tight) > kTightCover * rays, inGap = double(covered) > kTightCover * rays;
-        if (!inGap) continue;
-        std::array<glm::dvec3, kTightSamplesPerSide * kTightSamplesPerSide> inset;
-        std::size_t points = 0;
-        if (inTightGap)
-            forEachSubTriangleCentroid(kTightSamplesPerSide, [&](double wa, double wb) {
-                inset[points++] = rowRays_->lift(pointOnElement(el, r.element, wa, wb), glm::dvec3(el.normal[r.element]));
-            });
-        else
-            inset[points++] = rowRays_->lift(el.centroid[r.element], glm::dvec3(el.normal[r.element]));
-        for (std::size_t j = r.begin; j < r.end; ++j) scratch.rayOrigins[j] = inset[(j - r.begin) % points];
-        rowRays_->trace(std::span<const glm::dvec3>(scratch.rayOrigins).subspan(r.begin, r.end - r.begin),
-                        std::span<const glm::dvec3>(scratch.rayDirections).subspan(r.begin, r.end - r.begin),
-                        std::span<ElementHit>(scratch.elementHits).subspan(r.begin, r.end - r.begin));
-        traced += r.end - r.begin;
-    }
     // Each ray is 1/n of the row: its form factors, sky and back-face shares sum to 1.
     const double perRay = 1.0 / double(n);
     std::size_t sky = 0, back = 0;

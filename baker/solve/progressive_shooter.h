@@ -3,6 +3,7 @@
 // power renders an item-buffer hemicube and hands ρ_j·ΔB_i·F_ij·A_i/A_j to every element j it sees; what the
 // receivers reflect becomes their patches' unshot radiosity. Patches are shot in batches of one per worker thread,
 // rendered in parallel and applied in order (each shoots what it holds when its batch is picked).
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -144,10 +145,15 @@ private:
     // one ray, each ray leaves from a uniform point of its element's triangle in a stratified cosine direction and
     // carries 1/N of the row. So the row is the sources' area-averaged form factors, the near field where surfaces
     // meet included, with N rays in all however many sources. Trimmed elements leave from their centroid, elements
-    // facing a gap trace again from their centroid or inset points (see the .cpp). Seeded by `seed` alone. Returns
-    // the rays traced, 0 if the weights are all zero. Thread-safe across threads.
+    // facing a gap (gapFacing) from their centroid or inset points (see the .cpp). Seeded by `seed` alone. Returns
+    // the rays traced (gapFacing's first tests included), 0 if the weights are all zero. Thread-safe across threads.
     std::uint64_t tracePickedRow(const std::vector<std::pair<std::uint32_t, double>>& sources, std::uint64_t seed,
                                  double rayCount, FormFactorRow& row) const;
+    // How an element's rays by rays leave it: Open (from uniform points), Wide (a gap within kCoveredFraction of
+    // its size in front of it: from its centroid), Tight (within kTightFraction: from inset points).
+    enum class GapFacing : std::uint8_t { Unknown, Open, Wide, Tight };
+    // `element`'s GapFacing, found once from rays of its own (added to `raysTraced`) and kept. Thread-safe.
+    GapFacing gapFacing(std::uint32_t element, std::uint64_t& raysTraced) const;
     // Whether the last sampleRow into `scratch`, from an element or patch of this size, faced a tight gap.
     bool facesTightGap(const MergeScratch& scratch, double sizeM) const;
     // The cached row that predicts `patch`'s next shot: its row, or, its light lying unevenly, the row of its last
@@ -188,6 +194,7 @@ private:
     std::vector<std::uint64_t> queuedAtShot_;
     // Unshot power per element, W (channel sum): where on its patch the light to shoot lies.
     std::vector<double> unshotW_;
+    std::unique_ptr<std::atomic<std::uint8_t>[]> gapFacing_;  // per element: its GapFacing once known (rows by rays)
     std::vector<double> injectedW_;  // per element: the light put into it before shooting (direct, emission), W
     std::vector<float> singlePixelFormFactor_;  // per element, see singlePixelFormFactor()
     std::vector<std::uint32_t> zCurveRank_;      // per patch: its place on a Z-curve through the centroids (run())
