@@ -457,7 +457,7 @@ ProgressiveShooter::GapFacing ProgressiveShooter::gapFacing(std::uint32_t elemen
     if (known != GapFacing::Unknown) return known;
     // kGapTestStrata² rays from stratified uniform points over the element, towards stratified cosine directions
     // shuffled against them, seeded by the element alone: every row the element is in, whatever its order among
-    // the threads, sees the same answer (two threads asking at once compute the same and store it twice).
+    // the threads, sees the same answer (two threads asking at once compute the same; one stores it).
     const ElementArrays& el = mesh_.elements;
     MergeScratch& scratch = scratch_->local();
     constexpr std::size_t n = std::size_t(kGapTestStrata) * kGapTestStrata;
@@ -483,7 +483,6 @@ ProgressiveShooter::GapFacing ProgressiveShooter::gapFacing(std::uint32_t elemen
                                                    (double(d / kGapTestStrata) + uniform()) / kGapTestStrata);
     }
     rowRays_->trace(scratch.gapOrigins, scratch.gapDirections, scratch.gapHits);
-    raysTraced += n;
     const double sizeM = std::sqrt(2.0 * el.areaM2[element]);
     std::size_t tight = 0, covered = 0;
     for (const ElementHit& hit : scratch.gapHits) {
@@ -494,7 +493,9 @@ ProgressiveShooter::GapFacing ProgressiveShooter::gapFacing(std::uint32_t elemen
     const GapFacing facing = double(tight) > kTightCover * double(n)     ? GapFacing::Tight
                              : double(covered) > kTightCover * double(n) ? GapFacing::Wide
                                                                          : GapFacing::Open;
-    gapFacing_[element].store(std::uint8_t(facing), std::memory_order_relaxed);
+    // Counted by the thread that stores it, so the rays reported do not depend on the threads' timing.
+    std::uint8_t unknown = std::uint8_t(GapFacing::Unknown);
+    if (gapFacing_[element].compare_exchange_strong(unknown, std::uint8_t(facing), std::memory_order_relaxed)) raysTraced += n;
     return facing;
 }
 
