@@ -60,6 +60,31 @@ void forEachPickInParallel(std::size_t count, const Body& body) {
     tbb::this_task_arena::isolate([&] { tbb::parallel_for(std::size_t(0), count, body); });
 }
 
+// Uniforms in [0, 1) from one seed, a splitMix64 step each: rows by rays and gap tests draw their points from it.
+struct UniformStream {
+    std::uint64_t state;
+    double operator()() {
+        state = splitMix64(state);
+        return double(state >> 11) * 0x1.0p-53;
+    }
+};
+
+// The direction strata 0 … order.size() − 1 in a random order (Fisher–Yates), to pair with the origin strata: an
+// element's rays do not all leave towards one corner of the hemisphere.
+template <class Order>
+void shuffleStrata(Order& order, UniformStream& uniform) {
+    std::iota(order.begin(), order.end(), 0u);
+    for (std::size_t i = order.empty() ? 0 : order.size() - 1; i > 0; --i)
+        std::swap(order[i], order[std::min(i, std::size_t(uniform() * double(i + 1)))]);
+}
+
+// A cosine-distributed direction jittered within stratum `d` of strata × strata (frame t, b, n).
+glm::dvec3 directionInStratum(const glm::dvec3& t, const glm::dvec3& b, const glm::dvec3& n, std::uint32_t d, int strata,
+                              UniformStream& uniform) {
+    return cosineDirection(t, b, n, (double(d % std::uint32_t(strata)) + uniform()) / strata,
+                           (double(d / std::uint32_t(strata)) + uniform()) / strata);
+}
+
 }  // namespace
 
 // One patch's shot: the radiosity it shoots and its row of area-averaged form factors to every element it sees
@@ -461,14 +486,9 @@ ProgressiveShooter::GapFacing ProgressiveShooter::gapFacing(std::uint32_t elemen
     const ElementArrays& el = mesh_.elements;
     MergeScratch& scratch = scratch_->local();
     constexpr std::size_t n = std::size_t(kGapTestStrata) * kGapTestStrata;
-    std::uint64_t state = splitMix64(settings_.seed * 0x9E3779B97F4A7C15ull ^ (std::uint64_t(element) << 1 | 1u));
-    const auto uniform = [&state] {
-        state = splitMix64(state);
-        return double(state >> 11) * 0x1.0p-53;
-    };
+    UniformStream uniform{splitMix64(settings_.seed * 0x9E3779B97F4A7C15ull ^ (std::uint64_t(element) << 1 | 1u))};
     std::array<std::uint32_t, n> order;
-    std::iota(order.begin(), order.end(), 0u);
-    for (std::size_t i = n - 1; i > 0; --i) std::swap(order[i], order[std::min(i, std::size_t(uniform() * double(i + 1)))]);
+    shuffleStrata(order, uniform);
     const glm::dvec3 normal = glm::normalize(glm::dvec3(el.normal[element]));
     glm::dvec3 t, b;
     orthonormalBasis(normal, t, b);
@@ -478,9 +498,7 @@ ProgressiveShooter::GapFacing ProgressiveShooter::gapFacing(std::uint32_t elemen
     for (std::size_t k = 0; k < n; ++k) {
         const glm::dvec2 bary = pointInSubTriangle(kGapTestStrata, int(k), uniform(), uniform());
         scratch.gapOrigins[k] = rowRays_->lift(pointOnElement(el, element, bary.x, bary.y), normal);
-        const std::uint32_t d = order[k];
-        scratch.gapDirections[k] = cosineDirection(t, b, normal, (double(d % kGapTestStrata) + uniform()) / kGapTestStrata,
-                                                   (double(d / kGapTestStrata) + uniform()) / kGapTestStrata);
+        scratch.gapDirections[k] = directionInStratum(t, b, normal, order[k], kGapTestStrata, uniform);
     }
     rowRays_->trace(scratch.gapOrigins, scratch.gapDirections, scratch.gapHits);
     const double sizeM = std::sqrt(2.0 * el.areaM2[element]);
@@ -509,11 +527,7 @@ std::uint64_t ProgressiveShooter::tracePickedRow(const std::vector<std::pair<std
     for (std::size_t s = 0; s < sources.size(); ++s)
         if (sources[s].second > 0.0) weights += sources[s].second, lastSource = s;
     if (!(weights > 0.0)) return 0;
-    std::uint64_t state = splitMix64(seed ^ 0xD1B54A32D192ED03ull);
-    const auto uniform = [&state] {
-        state = splitMix64(state);
-        return double(state >> 11) * 0x1.0p-53;
-    };
+    UniformStream uniform{splitMix64(seed ^ 0xD1B54A32D192ED03ull)};
     const int strata = strataForRays(std::max(1LL, std::llround(rayCount)));
     const std::size_t n = std::size_t(strata) * std::size_t(strata);
     // Ray k leaves from the element where the cumulative weight passes (k + offset)/n (systematic sampling: each
@@ -522,8 +536,7 @@ std::uint64_t ProgressiveShooter::tracePickedRow(const std::vector<std::pair<std
     // of the hemisphere.
     std::vector<std::uint32_t>& order = scratch.strataOrder;
     order.resize(n);
-    std::iota(order.begin(), order.end(), 0u);
-    for (std::size_t i = n - 1; i > 0; --i) std::swap(order[i], order[std::min(i, std::size_t(uniform() * double(i + 1)))]);
+    shuffleStrata(order, uniform);
     const double rotation = 2.0 * M_PI * uniform();
     const double offset = uniform();
     scratch.rayOrigins.resize(n);
@@ -550,21 +563,21 @@ std::uint64_t ProgressiveShooter::tracePickedRow(const std::vector<std::pair<std
         // misses the near field where the element meets another surface (the edge strip of the floor beside a
         // wall), which darkened every room's edges. Stratified: one ray in each of the q² ≤ m sub-triangles of
         // the element's m rays, the rest anywhere on it. Except:
-        // - Trimmed elements keep the centroid: parts of their triangle lie under what covers them.
+        // - Trimmed elements keep the centroid (as a wide gap does): parts of their triangle lie under what covers them.
         // - An element facing a gap (gapFacing: the ceiling over a panel hung 5 cm under it) leaves from its
         //   centroid, or, the gap tight, from its kTightSamplesPerSide² sub-triangle centroids, as its hemicube row
         //   would. Uniform points are the exact area average of a constant element, but a gap's light really lies
         //   in its middle, and the rim's points send it out into the room: the panel room at level sizes
         //   (HangingPanel.RayRowsKeepTheTrappedLightAtLevelSizes) came out with the panel top −6.0 % instead of +2.5 %.
         const bool trimmed = el.areaM2[e] < triangleArea(el, e) * (1.0 - 1e-6);
-        const GapFacing facing = trimmed || end == k ? GapFacing::Open : gapFacing(e, traced);
+        const GapFacing facing = trimmed ? GapFacing::Wide : end == k ? GapFacing::Open : gapFacing(e, traced);
         std::array<glm::dvec3, kTightSamplesPerSide * kTightSamplesPerSide> inset;
         std::size_t insetPoints = 0;
         if (facing == GapFacing::Tight)
             forEachSubTriangleCentroid(kTightSamplesPerSide, [&](double wa, double wb) {
                 inset[insetPoints++] = rowRays_->lift(pointOnElement(el, e, wa, wb), normal);
             });
-        else if (trimmed || facing == GapFacing::Wide)
+        else if (facing == GapFacing::Wide)
             inset[insetPoints++] = rowRays_->lift(el.centroid[e], normal);
         const int q = strataForRays(std::int64_t(end - k));
         for (std::size_t first = k; k < end; ++k) {
@@ -576,9 +589,7 @@ std::uint64_t ProgressiveShooter::tracePickedRow(const std::vector<std::pair<std
                                                                             : pointInSubTriangle(1, 0, uniform(), uniform());
                 scratch.rayOrigins[k] = rowRays_->lift(pointOnElement(el, e, bary.x, bary.y), normal);
             }
-            const std::uint32_t d = order[k];
-            scratch.rayDirections[k] = cosineDirection(t, b, normal, (double(d % std::uint32_t(strata)) + uniform()) / strata,
-                                                       (double(d / std::uint32_t(strata)) + uniform()) / strata);
+            scratch.rayDirections[k] = directionInStratum(t, b, normal, order[k], strata, uniform);
         }
     }
     scratch.elementHits.resize(n);
