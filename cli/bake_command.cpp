@@ -205,13 +205,15 @@ CommandRunner addBakeCommand(CLI::App& app) {
                     "How emissive surfaces light the scene directly. rays: Lambert's exact formula times a shadow-ray "
                     "visibility estimate at every element and texel (sharp, alias-free); hemicube: emitters shoot "
                     "their power like every other patch (their shadows follow the element grid). Scenes with more "
-                    "emitter input triangles than --max-ray-traced-emitters fall back to hemicube, with a warning")
+                    "emitter input triangles near one receiver than --max-ray-traced-emitters fall back to hemicube, "
+                    "with a warning")
         ->check(CLI::IsMember({"rays", "hemicube"}));
     cmd->add_option("--max-ray-traced-emitters", o->maxRayTracedEmitters,
-                    "Emitter input triangles (per side of a double-sided face) up to which --emitters rays holds "
-                    "(default 4096). Far lamps are clustered and cost little; each emitter triangle near a receiver "
-                    "costs a contour per point, so a densely tessellated emitting surface beside receivers is what "
-                    "the limit guards. A 300k-triangle level with 3,696: direct light 256 s of a 1,525 s bake")
+                    "Emitter input triangles (per side of a double-sided face) near one receiver up to which "
+                    "--emitters rays holds (default 4096; counted in blocks of cells 4 element sizes wide, reported "
+                    "as emitterTrianglesNearOneReceiver in bake.json). Far lamps are clustered and cost little, so "
+                    "a level's size does not count; each emitter triangle near a receiver costs a contour per point, "
+                    "so a densely tessellated emitting surface beside receivers is what the limit guards")
         ->check(CLI::Range(0, 1 << 24));
     cmd->add_option("--emitter-samples", o->emitterSamples,
                     "Shadow rays per point towards emissive surfaces (--emitters rays); only penumbrae are noisy")

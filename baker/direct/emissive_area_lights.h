@@ -21,6 +21,7 @@
 
 #include "baker/direct/lighting_settings.h"
 #include "mesh/patches.h"
+#include "mesh/scene.h"
 
 namespace hemibake {
 
@@ -132,14 +133,20 @@ private:
     int samples_;
 };
 
-// The area lights a bake uses, or null when emitters shoot through hemicubes instead: by setting, because the
-// scene has no emitter, or because it has more emitter input triangles than LightingSettings::maxRayTracedEmitters
-// (far emitters are clustered, but each near one costs a contour per point). Input triangles, as the solve counts
-// them to size emitter patches before subdividing: counting the cut ones instead sent a 300k-triangle level's
-// emitters (3,696 input triangles, more after cuts) through rows from patches sized for rays. The solver and the
-// lightmap baker both ask, and get the same answer.
-// `samplesPerPoint` 0 = LightingSettings::emitterSamples.
+// The area lights a bake uses, or null when emitters shoot through hemicubes instead: by setting, or because the
+// scene has no emitter. Whether a scene has too many emitters near one receiver for rays is the solve's decision
+// (solveScene, by emitterTrianglesNearOneReceiver; SolveReport::emittersByRays), made once before subdividing so that
+// emitter patches are sized for it; later stages follow the report. `samplesPerPoint` 0 = LightingSettings::emitterSamples.
 std::unique_ptr<EmissiveAreaLights> makeEmissiveAreaLights(const PatchMesh& mesh, const EmbreeScene& rays,
                                                            const LightingSettings& lighting, int samplesPerPoint = 0);
+
+// The most emitter input triangles (per emitting side of a double-sided face, as inputTriangleCount() counts them)
+// whose centroids lie in one 3 × 3 × 3 block of cubic cells of side kPerPointDistance × elementSizeM: at least as
+// many as lie within that distance of a receiver in the block's middle cell, where each costs a contour per point
+// (farther ones are clustered). What LightingSettings::maxRayTracedEmitters limits: a level's other rooms' lamps do
+// not count; a densely tessellated emitting surface beside receivers does. A scene-wide count sent a 300k-triangle
+// level's lamps (30 copies of one room block, 137–409 lamp triangles each) through the shooter, where one copy's went
+// by rays. elementSizeM ≤ 0 or not finite counts the whole scene as one block. Thread-safe; throws only std::bad_alloc.
+std::size_t emitterTrianglesNearOneReceiver(const Scene& scene, double elementSizeM);
 
 }  // namespace hemibake

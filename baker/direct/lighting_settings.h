@@ -17,9 +17,10 @@ EmitterLighting parseEmitterLighting(const std::string& name);  // throws std::i
 struct LightingSettings {
     EmitterLighting emitters = EmitterLighting::Hemicube;
     int emitterSamples = 16;            // shadow rays per point towards emissive surfaces (Rays); presets 64–4096
-    int maxRayTracedEmitters = 4096;    // more emitter input triangles than this (per side of a double-sided face):
-                                        // fall back to Hemicube (far emitters are cheap, clustered; near ones cost
-                                        // a contour per point each; the 300k-triangle generated level has 3,696)
+    int maxRayTracedEmitters = 4096;    // more emitter input triangles than this (per side of a double-sided face)
+                                        // near one receiver (emitterTrianglesNearOneReceiver: within a few element
+                                        // sizes, where each costs a contour per point; far ones are clustered):
+                                        // fall back to Hemicube. A generated level's lamps: ~400 near any receiver
     glm::vec3 skyRadiance{0.0f};        // uniform sky, W·m⁻²·sr⁻¹, seen where rays and hemicube pixels escape
     // Cosine-weighted visibility rays per element for direct sky light, spread over its lightSamplesPerElement
     // points. A room lit through windows has only some hundred elements, so their noise does not average out:

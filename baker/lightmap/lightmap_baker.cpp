@@ -315,8 +315,9 @@ public:
                 LightmapStats& stats)
         : scene_(scene), solved_(solved), atlas_(atlas), settings_(settings), solve_(solve),
           // Ray-traced direct light at every texel: punctual lights, and emitters when the solver ray traced them
-          // (same decision, same inputs); the gather then sees emitters without their emission.
-          rays_(rays), areaLights_(makeEmissiveAreaLights(solved.mesh, rays, solve.lighting)),
+          // (its decision, in its report); the gather then sees emitters without their emission.
+          rays_(rays),
+          areaLights_(solved.report.emittersByRays ? makeEmissiveAreaLights(solved.mesh, rays, solve.lighting) : nullptr),
           gatherer_(*solved.pool, solve.solver.seed ^ 0x5EEDull),
           interpolator_(solved.mesh, displayIrradiance(solved)) {
         if (!scene.lights.empty() || areaLights_) {

@@ -32,6 +32,7 @@ nlohmann::json convergenceJson(const SolveReport& solve) {
             {"cachedElementRows", solve.cachedElementRows},
             {"localRounds", solve.localRounds},
             {"emittersByRays", solve.emittersByRays},
+            {"emitterTrianglesNearOneReceiver", solve.emitterTrianglesNearOneReceiver},
             {"formFactorCacheMiB", double(solve.formFactorCacheBytes) / 1048576.0},
             {"gatherSweeps", solve.gatherSweeps},
             {"implausibleReceivers", solve.implausibleReceivers},

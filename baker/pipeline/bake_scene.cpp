@@ -121,12 +121,12 @@ private:
         report.sides = solved.sides;
         report.refinement = {solved.elementsBeforeRefinement, solved.mesh.elements.size(), solved.refinementRegions,
                              solved.roomScale, solved.directSteps};
-        std::size_t emitting = 0;
-        for (const glm::vec3& l : solved.mesh.elements.emittedRadiance) emitting += (l.x > 0.0f || l.y > 0.0f || l.z > 0.0f);
-        if (s.lighting.emitters == EmitterLighting::Rays && emitting > 0 && !solved.report.emittersByRays)
-            warn("emitters have more than " + std::to_string(s.lighting.maxRayTracedEmitters) + " input triangles (" +
-                 std::to_string(emitting) + " emitting elements): emitters shoot their light like other patches instead "
-                 "of being traced by rays (their shadows follow the element grid)");
+        if (s.lighting.emitters == EmitterLighting::Rays && !solved.report.emittersByRays &&
+            solved.report.emitterTrianglesNearOneReceiver > 0)
+            warn(std::to_string(solved.report.emitterTrianglesNearOneReceiver) + " emitter input triangles lie near one "
+                 "receiver, more than --max-ray-traced-emitters " + std::to_string(s.lighting.maxRayTracedEmitters) +
+                 ": emitters shoot their light like other patches instead of being traced by rays (their shadows "
+                 "follow the element grid)");
         stage("solve");
         const SolveReport& sr = solved.report;
         done("solved: " + sr.stopReason + ", " + std::to_string(sr.shots) + " shots, " + std::to_string(sr.gatherSweeps) +

@@ -52,6 +52,9 @@ struct SolveReport {
     std::size_t ambientElements = 0;         // elements the unshot light reaches (the others get no ambient)
     std::size_t ambientUnknownPatches = 0;   // unshot patches without a row: their light is in no ambient
     bool emittersByRays = false;     // emitters' direct light came from EmissiveAreaLights, not from shooting
+    // Emitter input triangles near one receiver, what LightingSettings::maxRayTracedEmitters limits (solveScene;
+    // 0 when emitters shoot by setting).
+    std::size_t emitterTrianglesNearOneReceiver = 0;
     ConvergenceHistory history;
 };
 

@@ -1,5 +1,7 @@
 #include "baker/solve/solve_scene.h"
 
+#include "baker/direct/emissive_area_lights.h"
+
 #include "baker/rays/element_ray_scene.h"
 #include "baker/solve/adaptive_refinement.h"
 #include "baker/solve/direct_steps.h"
@@ -13,18 +15,21 @@ SolvedScene::~SolvedScene() = default;
 
 namespace {
 
-// Emitter patches are a quarter of the patch size so that emitters shooting their light through hemicubes do it
-// from close enough (GROUND_TRUTH §3.4). When rays carry the emitters' light (LightingSettings::emitters = Rays and
-// few enough emitter triangles), an emitter patch shoots only what it reflects, like any patch: the finer size
-// would multiply patches and shots for nothing (a closed cube emitting on every face: 15k patches instead of 1k).
-SolveSettings withEmitterPatchSize(const Scene& scene, SolveSettings settings) {
-    if (settings.lighting.emitters != EmitterLighting::Rays || settings.subdivision.emitterPatchSizeM > 0.0) return settings;
-    std::size_t emitterTriangles = 0;
-    for (const MeshInstance& instance : scene.instances) {
-        const Material& material = scene.materials[std::size_t(instance.material)];
-        if (material.isEmissive()) emitterTriangles += instance.mesh.n_faces() * (material.doubleSided ? 2u : 1u);
+// Whether rays carry the emitters' light, decided once for every stage: not when more emitter input triangles than
+// LightingSettings::maxRayTracedEmitters lie near one receiver (each near one costs a contour per point), which falls
+// back to shooting them (the bake warns; the report says why). Emitter patches are a quarter of the patch size so
+// that emitters shooting their light through hemicubes do it from close enough (GROUND_TRUTH §3.4); when rays carry
+// their light, an emitter patch shoots only what it reflects, like any patch: the finer size would multiply patches
+// and shots for nothing (a closed cube emitting on every face: 15k patches instead of 1k).
+SolveSettings withEmitterLighting(const Scene& scene, SolveSettings settings, std::size_t& nearOneReceiver) {
+    nearOneReceiver = 0;
+    if (settings.lighting.emitters != EmitterLighting::Rays) return settings;
+    nearOneReceiver = emitterTrianglesNearOneReceiver(scene, settings.subdivision.elementSizeM);
+    if (nearOneReceiver > std::size_t(std::max(settings.lighting.maxRayTracedEmitters, 0))) {
+        settings.lighting.emitters = EmitterLighting::Hemicube;
+        return settings;
     }
-    if (emitterTriangles > 0 && emitterTriangles <= std::size_t(std::max(settings.lighting.maxRayTracedEmitters, 0)))
+    if (nearOneReceiver > 0 && settings.subdivision.emitterPatchSizeM <= 0.0)
         settings.subdivision.emitterPatchSizeM = settings.subdivision.patchSizeM;
     return settings;
 }
@@ -33,7 +38,8 @@ SolveSettings withEmitterPatchSize(const Scene& scene, SolveSettings settings) {
 
 std::unique_ptr<SolvedScene> solveScene(const Scene& scene, const SolveSettings& requested, const EmbreeScene& rays,
                                         const SolveProgress& progress) {
-    const SolveSettings settings = withEmitterPatchSize(scene, requested);
+    std::size_t emittersNearOneReceiver = 0;
+    const SolveSettings settings = withEmitterLighting(scene, requested, emittersNearOneReceiver);
     auto owned = std::make_unique<SolvedScene>();
     SolvedScene& solved = *owned;
     const Stopwatch clock;
@@ -68,6 +74,7 @@ std::unique_ptr<SolvedScene> solveScene(const Scene& scene, const SolveSettings&
         subdivideAndSolve(&request);
     }
     solved.report.prepareSeconds = prepareSeconds;
+    solved.report.emitterTrianglesNearOneReceiver = emittersNearOneReceiver;
     return owned;
 }
 

@@ -615,8 +615,8 @@ TEST(EmissiveAreaLights, ShadowRaysPickALampWithinAClusterByItsPower) {
     EXPECT_NEAR(got / exact, 1.0, 0.01);
 }
 
-// The limit on ray-traced emitters counts input triangles, as the solve does when it sizes emitter patches before
-// subdividing. An emitting floor crossed by a closed block is cut along the block into more light triangles than it
+// The limit on ray-traced emitters counts input triangles, and the solve decides it once, before subdividing, where
+// it sizes emitter patches. An emitting floor crossed by a closed block is cut along the block into more light triangles than it
 // has input triangles; counted after the cut, the same limit sent its emitters through rows (from patches sized for
 // rays) while the solve had assumed rays.
 TEST(EmissiveAreaLights, EmittersCutAlongASolidStayRayTracedAtTheirInputTriangleLimit) {
@@ -637,9 +637,68 @@ TEST(EmissiveAreaLights, EmittersCutAlongASolidStayRayTracedAtTheirInputTriangle
     EXPECT_EQ(lights.inputTriangleCount(), 2u);
     ASSERT_GT(lights.triangleCount(), 2u) << "the block no longer cuts the floor: the test lost its premise";
     EXPECT_TRUE(solved->report.emittersByRays);
-    EXPECT_NE(makeEmissiveAreaLights(solved->mesh, rays, s.lighting), nullptr);
+    EXPECT_EQ(solved->report.emitterTrianglesNearOneReceiver, 2u);
     s.lighting.maxRayTracedEmitters = 1;
-    EXPECT_EQ(makeEmissiveAreaLights(solved->mesh, rays, s.lighting), nullptr);
+    const auto shooting = solveScene(scene, s, rays);
+    EXPECT_FALSE(shooting->report.emittersByRays);
+    EXPECT_GT(shooting->mesh.patches.size(), solved->mesh.patches.size()) << "fallback emitters not on finer patches";
+}
+
+// The limit counts the emitter triangles near one receiver, not the level's: lamps (two triangles each) 100 m apart
+// along a row are two at a time within any block of cells 4 element sizes wide, however many the row holds; a block
+// wide enough to hold several holds exactly as many as fall in its three cells; no element size counts them all.
+TEST(EmissiveAreaLights, EmitterLimitCountsTheTrianglesNearOneReceiver) {
+    SceneBuilder b("a row of lamps");
+    const int lamp = b.addMaterial(glm::vec3(0.5f), glm::vec3(1.0f), false, "lamp");
+    const int twoSided = b.addMaterial(glm::vec3(0.5f), glm::vec3(1.0f), true, "two-sided lamp");
+    for (int i = 0; i < 50; ++i) {
+        const double x = 100.0 * i + 10.0;
+        b.addQuad({x, 3, 0}, {x + 0.5, 3, 0}, {x + 0.5, 3, 0.5}, {x, 3, 0.5}, i == 7 ? twoSided : lamp, "lamp");
+    }
+    const Scene scene = b.build();
+    EXPECT_EQ(emitterTrianglesNearOneReceiver(scene, 1.0), 4u);   // cells of 4 m: the two-sided lamp, 2 × 2
+    EXPECT_EQ(emitterTrianglesNearOneReceiver(scene, 0.0), 102u);  // one block: every lamp, the two-sided one twice
+    // Cells of 400 m hold four lamps each (x = 10, 110, 210, 310 in the first); the block about the cell of lamps
+    // 4–7 holds lamps 0–11 with lamp 7's two sides: 13 × 2.
+    EXPECT_EQ(emitterTrianglesNearOneReceiver(scene, 100.0), 26u);
+    // The same scene 100 km from the origin (cells counted in whole steps far from zero): the same count.
+    SceneBuilder far("the row of lamps 100 km away");
+    const int farLamp = far.addMaterial(glm::vec3(0.5f), glm::vec3(1.0f), false, "lamp");
+    for (int i = 0; i < 50; ++i) {
+        const double x = 100.0 * i + 10.0 + 1e5;
+        far.addQuad({x, 3, 1e5}, {x + 0.5, 3, 1e5}, {x + 0.5, 3, 1e5 + 0.5}, {x, 3, 1e5 + 0.5}, farLamp, "lamp");
+    }
+    EXPECT_EQ(emitterTrianglesNearOneReceiver(far.build(), 1.0), 2u);
+}
+
+// A densely tessellated emitting panel (a 12 × 12 grid of quads, 288 triangles) over a floor is what the limit
+// guards: over it, the solve shoots the emitters and says why; a row of lamps with as many triangles in all, 50 m
+// apart (the first over the floor), stays ray traced.
+TEST(EmissiveAreaLights, DenseEmitterFallsBackWhereALevelsLampsDoNot) {
+    SolveSettings s;
+    s.subdivision = {1.0, 0.5, 0.0};
+    s.solver.hemicubeResolution = 32;
+    s.lighting.emitters = EmitterLighting::Rays;
+    s.lighting.maxRayTracedEmitters = 100;
+    auto floorWith = [](bool dense) {
+        SceneBuilder b(dense ? "dense panel" : "row of lamps");
+        const int lamp = b.addMaterial(glm::vec3(0.5f), glm::vec3(1.0f), false, "lamp");
+        const int grey = b.addMaterial(glm::vec3(0.5f), glm::vec3(0.0f), false, "grey");
+        b.addQuad({-1, 0, -1}, {-1, 0, 2}, {2, 0, 2}, {2, 0, -1}, grey, "floor");
+        for (int i = 0; i < 144; ++i) {
+            const double x = dense ? 0.1 * (i % 12) : 50.0 * i, z = dense ? 0.1 * (i / 12) : 0.0;
+            b.addQuad({x, 2, z}, {x + 0.1, 2, z}, {x + 0.1, 2, z + 0.1}, {x, 2, z + 0.1}, lamp, "lamp");  // facing down
+        }
+        return b.build();
+    };
+    const Scene dense = floorWith(true), row = floorWith(false);
+    const EmbreeScene denseRays(dense), rowRays(row);
+    const auto panel = solveScene(dense, s, denseRays);
+    EXPECT_EQ(panel->report.emitterTrianglesNearOneReceiver, 288u);
+    EXPECT_FALSE(panel->report.emittersByRays);
+    const auto lamps = solveScene(row, s, rowRays);
+    EXPECT_EQ(lamps->report.emitterTrianglesNearOneReceiver, 2u);
+    EXPECT_TRUE(lamps->report.emittersByRays);
 }
 
 // A level's far lamps as the level grows (a sheet of ceiling lamps from 10 × 10 to 60 × 60, 2 m apart, all beyond
