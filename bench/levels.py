@@ -332,7 +332,9 @@ def write_docs(results, docs, png, scaling_png=None, speed_only=False):
             per_texel_us = 1e6 * r["seconds"] / texels if texels else float("nan")
             per_texel_kib = 1024.0 * r["peakMiB"] / texels if texels else float("nan")
             frac = lambda v: "—" if v is None else f"{100 * v:.1f} %"
-            perf.append(f"| {level['level']} ({r.get('sceneTriangles')} element triangles) | {texels} | {r['setting']} | "
+            # A level whose emitters went back to shooting (over the ray-traced emitters' limit) is another baker.
+            setting = r["setting"] + (", emitters through rows" if r.get("emittersByRays") is False else "")
+            perf.append(f"| {level['level']} ({r.get('sceneTriangles')} element triangles) | {texels} | {setting} | "
                         f"{r['seconds']:.0f} | {r['peakMiB']:.0f} | {per_texel_us:.0f} | {per_texel_kib:.2f} | "
                         f"{r.get('solveHemicubes')} | {frac(r.get('solveDrawnFraction'))} | {r.get('gatherHemicubes')} | "
                         f"{frac(r.get('gatherDrawnFraction'))} | "
@@ -378,7 +380,8 @@ def main():
                     help="an extra bake row, e.g. 'medium, interpolate=--preset medium --texel-mode interpolate'")
     ap.add_argument("--bake-args", default="", metavar="ARGS",
                     help="added to every bake, e.g. '--max-ray-traced-emitters 8192' for a level with more emitter "
-                         "triangles than the default limit (its emitters would shoot through rows and warn)")
+                         "triangles near one receiver than the default limit (its emitters would shoot through rows "
+                         "and warn; the table marks such rows)")
     ap.add_argument("--spp", nargs="+", type=int, default=[16, 64, 256, 1024])
     ap.add_argument("--reference-spp", type=int, default=4096)
     ap.add_argument("--texels-per-unit", type=float, default=16.0)

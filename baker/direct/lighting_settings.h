@@ -20,7 +20,7 @@ struct LightingSettings {
     int maxRayTracedEmitters = 4096;    // more emitter input triangles than this (per side of a double-sided face)
                                         // near one receiver (emitterTrianglesNearOneReceiver: within a few element
                                         // sizes, where each costs a contour per point; far ones are clustered):
-                                        // fall back to Hemicube. A generated level's lamps: ~400 near any receiver
+                                        // fall back to Hemicube. 30 copies of a generated level: 192
     glm::vec3 skyRadiance{0.0f};        // uniform sky, W·m⁻²·sr⁻¹, seen where rays and hemicube pixels escape
     // Cosine-weighted visibility rays per element for direct sky light, spread over its lightSamplesPerElement
     // points. A room lit through windows has only some hundred elements, so their noise does not average out:
