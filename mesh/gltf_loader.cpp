@@ -582,6 +582,17 @@ std::string describeLoadFailure(const std::string& path, bool binary, const std:
     return firstLine(err);
 }
 
+// A URI that is an absolute path ("/data/level.bin", an RFC 3986 absolute-path reference) names that very file, but
+// tinygltf joins every URI to the glTF's folder: such a file was found when the glTF was named by a relative path
+// and not when by an absolute one (a bake loaded, its `reference --texels`, which reopens bake.json's absolute path,
+// did not). `folder` is the folder tinygltf joins to (its GetBaseDir of the glTF's path).
+std::string resolveAbsoluteUri(const std::string& joined, void* folder) {
+    const std::string& base = *static_cast<const std::string*>(folder);
+    if (base.empty() || joined.compare(0, base.size(), base) != 0) return joined;
+    const std::size_t uri = base.back() == '/' ? base.size() : base.size() + 1;  // where JoinPath put the URI
+    return joined.size() > uri && joined[uri] == '/' ? joined.substr(uri) : joined;
+}
+
 }  // namespace
 
 void readTinyGltf(const std::string& path, tinygltf::TinyGLTF& loader, tinygltf::Model& model) {
@@ -614,6 +625,17 @@ void readTinyGltf(const std::string& path, tinygltf::TinyGLTF& loader, tinygltf:
             throw InputError(path, "truncated binary glTF: its header says " + std::to_string(declared) + " bytes, the file has " +
                                        std::to_string(size));
     }
+    std::string folder = path.substr(0, path.find_last_of("/\\") == std::string::npos ? 0 : path.find_last_of("/\\"));
+    loader.SetFsCallbacks({&tinygltf::FileExists, &resolveAbsoluteUri, &tinygltf::ReadWholeFile, &tinygltf::WriteWholeFile,
+                           &folder});
+    // `folder` dies with this call: the loader goes back to tinygltf's own callbacks however the load ends.
+    struct RestoreFs {
+        tinygltf::TinyGLTF& loader;
+        ~RestoreFs() {
+            loader.SetFsCallbacks({&tinygltf::FileExists, &tinygltf::ExpandFilePath, &tinygltf::ReadWholeFile,
+                                   &tinygltf::WriteWholeFile, nullptr});
+        }
+    } restoreFs{loader};
     std::string err, warnText;
     const bool ok = binary ? loader.LoadBinaryFromFile(&model, &err, &warnText, path)
                            : loader.LoadASCIIFromFile(&model, &err, &warnText, path);

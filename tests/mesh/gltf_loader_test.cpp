@@ -308,6 +308,33 @@ TEST(GltfLoaderBadInput, NodeCycleAndDanglingReferences) {
 
 // A 20,000-deep chain used to overflow the stack of the recursive node walk (segfault). It is legal glTF and loads,
 // every level's transform composed: the quad sits 20,000 × 1 mm along +X.
+// A buffer URI that is an absolute path (an RFC 3986 absolute-path reference) names that file whether the glTF is
+// named by an absolute or a relative path. tinygltf joins every URI to the glTF's folder, so it used to load only
+// when named relatively: a bake loaded, and `reference --texels`, which reopens bake.json's absolute path, failed.
+TEST(GltfLoaderExtremes, BufferUriThatIsAnAbsolutePathLoadsHoweverTheGltfIsNamed) {
+    TempDir dir;
+    const std::string written = hemibake::test::unitQuadFixture().writeGltf(dir, "quad");
+    std::ifstream in(written);
+    nlohmann::json j = nlohmann::json::parse(in);
+    const std::string bin = std::filesystem::absolute(dir.file("quad.bin")).string();
+    ASSERT_EQ(bin.front(), '/');
+    j["buffers"][0]["uri"] = bin;
+    std::filesystem::create_directories(dir.path() / "elsewhere");
+    const std::string moved = std::filesystem::absolute(dir.path() / "elsewhere" / "quad.gltf").string();
+    std::ofstream(moved) << j.dump();
+    const Scene byAbsolutePath = loadGltf(moved);
+    ASSERT_EQ(byAbsolutePath.instances.size(), 1u);
+    EXPECT_EQ(byAbsolutePath.instances[0].mesh.n_faces(), 2u);
+    const std::string relative = std::filesystem::relative(moved).string();
+    ASSERT_NE(relative.front(), '/');
+    EXPECT_EQ(loadGltf(relative).instances[0].mesh.n_faces(), 2u);
+    // A relative URI still resolves against the glTF's folder: the same file beside a glTF named absolutely.
+    j["buffers"][0]["uri"] = "quad.bin";
+    const std::string beside = std::filesystem::absolute(dir.path() / "beside.gltf").string();
+    std::ofstream(beside) << j.dump();
+    EXPECT_EQ(loadGltf(beside).instances[0].mesh.n_faces(), 2u);
+}
+
 TEST(GltfLoaderExtremes, DeepHierarchyLoadsWithEveryLevelApplied) {
     TempDir dir;
     const Scene scene = loadGltf(hemibake::test::deepHierarchyFixture(20000).writeGltf(dir, "deep"));
