@@ -10,6 +10,7 @@
 #include <unordered_map>
 
 #include "baker/rays/embree_scene.h"
+#include "mesh/cell_key.h"
 #include "mesh/frame_math.h"
 
 namespace hemibake {
@@ -649,18 +650,13 @@ std::unique_ptr<EmissiveAreaLights> makeEmissiveAreaLights(const PatchMesh& mesh
 std::size_t emitterTrianglesNearOneReceiver(const Scene& scene, double elementSizeM) {
     const double cellM = kPerPointDistance * elementSizeM;
     const bool oneBlock = !(cellM > 0.0) || !std::isfinite(cellM);
-    struct CellHash {
-        std::size_t operator()(const std::array<std::int64_t, 3>& c) const {
-            std::uint64_t h = 0x9E3779B97F4A7C15ull;
-            for (std::int64_t v : c) h = (h ^ std::uint64_t(v)) * 0xBF58476D1CE4E5B9ull;
-            return std::size_t(h ^ (h >> 31));
-        }
-    };
-    std::unordered_map<std::array<std::int64_t, 3>, std::size_t, CellHash> perCell;
-    std::size_t total = 0;
     // Cells are counted in 2⁵² steps at most, so a cell size far below the scene's extent (1 µm elements 100 km out)
     // stays an exact integer.
-    constexpr double kMostCells = 4503599627370496.0;
+    static constexpr double kMostCells = 4503599627370496.0;
+    auto cellOf = [cellM](double x) { return std::int64_t(std::clamp(std::floor(x / cellM), -kMostCells, kMostCells)); };
+    std::unordered_map<std::uint64_t, std::size_t> perCell;
+    std::vector<glm::i64vec3> cells;  // of every emitting face, so each occupied cell's block is summed
+    std::size_t total = 0;
     for (const MeshInstance& instance : scene.instances) {
         const Material& material = scene.materials[std::size_t(instance.material)];
         if (!material.isEmissive()) continue;
@@ -671,25 +667,23 @@ std::size_t emitterTrianglesNearOneReceiver(const Scene& scene, double elementSi
             glm::dvec3 centroid(0.0);
             int corners = 0;
             for (const auto& vertex : face.vertices()) {
-                const auto& p = instance.mesh.point(vertex);
-                centroid += glm::dvec3(p[0], p[1], p[2]);
+                centroid += toGlm(instance.mesh.point(vertex));
                 ++corners;
             }
             centroid /= double(std::max(corners, 1));
-            std::array<std::int64_t, 3> cell{};
-            for (int axis = 0; axis < 3; ++axis)
-                cell[axis] = std::int64_t(std::clamp(std::floor(centroid[axis] / cellM), -kMostCells, kMostCells));
-            perCell[cell] += sides;
+            const glm::i64vec3 cell(cellOf(centroid.x), cellOf(centroid.y), cellOf(centroid.z));
+            perCell[cellKey(cell.x, cell.y, cell.z)] += sides;
+            cells.push_back(cell);
         }
     }
     if (oneBlock) return total;
     std::size_t most = 0;
-    for (const auto& [cell, count] : perCell) {
+    for (const glm::i64vec3& cell : cells) {
         std::size_t block = 0;
         for (std::int64_t dx = -1; dx <= 1; ++dx)
             for (std::int64_t dy = -1; dy <= 1; ++dy)
                 for (std::int64_t dz = -1; dz <= 1; ++dz) {
-                    const auto found = perCell.find({cell[0] + dx, cell[1] + dy, cell[2] + dz});
+                    const auto found = perCell.find(cellKey(cell.x + dx, cell.y + dy, cell.z + dz));
                     if (found != perCell.end()) block += found->second;
                 }
         most = std::max(most, block);

@@ -34,8 +34,8 @@ public:
 
     bool empty() const { return triangles_.empty(); }
     std::size_t triangleCount() const { return triangles_.size(); }
-    // Input triangles the lights come from (per side of a double-sided face), what the limit counts: faces cut along
-    // solids or trimmed stay as several triangles each, so triangleCount() may be larger.
+    // Input triangles the lights come from (per side of a double-sided face), as emitterTrianglesNearOneReceiver
+    // counts them: faces cut along solids or trimmed stay as several triangles each, so triangleCount() may be larger.
     std::size_t inputTriangleCount() const { return inputTriangles_; }
     double emittedPowerW() const;  // π·L_e·A summed over channels and triangles
 
