@@ -7,10 +7,12 @@
 #include <new>
 
 #include "cli/command.h"
+#include "cli/huge_page_heap.h"
 #include "cli/stale_temporaries.h"
 #include "mesh/errors.h"
 
 int main(int argc, char** argv) {
+    hemibake::cli::restartWithHugePageHeap(argv);
     CLI::App app{"hemibake: progressive hemicube radiosity lightmap baker (glTF in, lightmaps out)", "hemibake"};
     app.set_version_flag("--version", std::string("hemibake ") + HEMIBAKE_VERSION);
     app.require_subcommand(1);

@@ -1,6 +1,7 @@
 #include "baker/pipeline/bake_report.h"
 
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
 
@@ -109,6 +110,7 @@ nlohmann::json BakeReport::toJson() const {
     for (const StageTiming& t : timings) j["timings"][t.stage] = t.seconds;
     j["timings"]["total"] = totalSeconds;
     j["peakMemoryMiB"] = peakMemoryMiB;
+    j["hugePageHeap"] = hugePageHeap;
     j["counts"] = {{"triangles", triangles}, {"patches", patches}, {"elements", elements}};
     j["warnings"] = warnings;
     j["convergence"] = convergenceJson(solve);
@@ -183,6 +185,19 @@ nlohmann::json BakeReport::toJson() const {
         j["preview"] = {{"camera", preview->camera}, {"exr", preview->exr}, {"png", preview->png},
                         {"width", preview->width}, {"height", preview->height}};
     return j;
+}
+
+bool heapInHugePages() {
+    const char* tunables = std::getenv("GLIBC_TUNABLES");
+    if (tunables == nullptr) return false;
+    bool on = false;
+    std::istringstream list(tunables);
+    for (std::string item; std::getline(list, item, ':');)
+        if (item.rfind("glibc.malloc.hugetlb=", 0) == 0) on = item == "glibc.malloc.hugetlb=1";  // the last one counts
+    if (!on) return false;
+    std::ifstream kernel("/sys/kernel/mm/transparent_hugepage/enabled");
+    std::string line;
+    return std::getline(kernel, line) && line.find("[never]") == std::string::npos;
 }
 
 double peakResidentMemoryMiB() {

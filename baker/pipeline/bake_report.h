@@ -77,6 +77,7 @@ struct BakeReport {
     std::vector<StageTiming> timings;
     double totalSeconds = 0.0;              // wall time of the whole bake
     double peakMemoryMiB = 0.0;
+    bool hugePageHeap = false;              // glibc backs the heap with transparent huge pages (heapInHugePages)
     std::size_t patches = 0, elements = 0, triangles = 0;
     std::vector<std::string> warnings;
     SolveReport solve;
@@ -96,5 +97,9 @@ struct BakeReport {
 
 // Peak resident memory of this process so far, MiB (Linux VmHWM).
 double peakResidentMemoryMiB();
+// Whether this process's glibc was started with its heap in transparent huge pages: GLIBC_TUNABLES holds
+// glibc.malloc.hugetlb=1 (the CLI restarts itself with it, cli/huge_page_heap.h), and the kernel's
+// transparent huge pages are not off. Thread-safe; never throws.
+bool heapInHugePages();
 
 }  // namespace hemibake

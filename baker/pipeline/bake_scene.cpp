@@ -65,6 +65,7 @@ public:
         BakeReport& r = result_.report;
         r.totalSeconds = output_.loadSeconds + total_.seconds();
         r.peakMemoryMiB = peakResidentMemoryMiB();
+        r.hugePageHeap = heapInHugePages();
         if (!output_.dir.empty()) writeTextAtomically(output_.dir / "bake.json", r.toJson().dump(2) + "\n");
         return std::move(result_);
     }

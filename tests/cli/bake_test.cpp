@@ -1,5 +1,6 @@
 // `hemibake bake` as users call it: the bake.json contract, convergence history, exit codes, no partial output.
 #include <chrono>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -127,6 +128,42 @@ TEST(CliBake, EmitterLimitIsAKnob) {
     }
     EXPECT_EQ(runHemibake({"bake", hemibake::test::sharedScene("cornell_box.gltf"), "-o", dir.file("x"),
                            "--max-ray-traced-emitters", "-1"}).exitCode, 2);
+}
+
+// The CLI restarts itself with glibc's heap in transparent huge pages (cli/huge_page_heap.h); bake.json says whether
+// it runs so. A GLIBC_TUNABLES that names the tunable is the user's choice and kept (=0 turns it off); other tunables
+// stay beside it. The light baked is the same byte for byte either way.
+TEST(CliBake, HeapInHugePagesUnlessTheUserSaysOtherwise) {
+    std::string thp;
+    std::getline(std::ifstream("/sys/kernel/mm/transparent_hugepage/enabled"), thp);
+    const bool kernelOn = thp.find("[always]") != std::string::npos || thp.find("[madvise]") != std::string::npos;
+    const char* saved = std::getenv("GLIBC_TUNABLES");
+    const std::string savedValue = saved ? saved : "";
+    struct Case {
+        const char* tunables;  // GLIBC_TUNABLES for the run; null: unset
+        bool hugePages;
+    };
+    const Case cases[] = {{nullptr, kernelOn}, {"glibc.malloc.hugetlb=0", false}, {"glibc.malloc.arena_max=4", kernelOn}};
+    TempDir dir;
+    for (std::size_t k = 0; k < std::size(cases); ++k) {
+        if (cases[k].tunables) setenv("GLIBC_TUNABLES", cases[k].tunables, 1);
+        else unsetenv("GLIBC_TUNABLES");
+        const auto r = runHemibake({"bake", hemibake::test::sharedScene("cornell_box.gltf"), "-o", dir.file("bake" + std::to_string(k)),
+                                    "--preset", "draft", "--no-preview"});
+        if (saved) setenv("GLIBC_TUNABLES", savedValue.c_str(), 1);
+        else unsetenv("GLIBC_TUNABLES");
+        ASSERT_EQ(r.exitCode, 0) << r.err;
+        std::ifstream in(dir.file("bake" + std::to_string(k)) + "/bake.json");
+        const auto j = nlohmann::json::parse(in);
+        EXPECT_EQ(j["hugePageHeap"], cases[k].hugePages) << (cases[k].tunables ? cases[k].tunables : "(unset)") << ", kernel: " << thp;
+    }
+    for (const char* other : {"bake1", "bake2"}) {  // texel for texel (the EXR files differ in their creation time)
+        const auto r = runHemibake({"compare", dir.file("bake0"), dir.file(other), "--json"});
+        ASSERT_EQ(r.exitCode, 0) << r.err;
+        const auto j = nlohmann::json::parse(r.out);
+        EXPECT_GT(j["global"]["texels"].get<int>(), 1000);
+        EXPECT_EQ(j["global"]["maxRelativeError"].get<double>(), 0.0) << other;
+    }
 }
 
 // Input the loader had to correct (CONVENTIONS: reflectance clamped to [0, 0.999] "with a warning") is reported by
