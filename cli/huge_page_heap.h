@@ -3,7 +3,7 @@
 // heap in 4 KiB pages most of those reads also miss the TLB, and more so the larger the level. glibc (2.35 and
 // later) backs its heap with transparent huge pages only when told so at start-up, by the environment
 // (GLIBC_TUNABLES=glibc.malloc.hugetlb=1), so the baker sets that and runs itself again, once, before anything
-// else. Measured on the 10-copy tiled level: 5.5 % less time (two bakes each way), 2 % more peak memory
+// else. Measured on the 10-copy tiled level: about 5 % less time (three bakes against two), 2 % more peak memory
 // (docs/performance.md, session 36).
 namespace hemibake::cli {
 
