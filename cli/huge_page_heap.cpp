@@ -2,10 +2,11 @@
 
 #include <cstdlib>
 #include <cstring>
-#include <fstream>
 #include <string>
 
 #include <unistd.h>
+
+#include "baker/pipeline/bake_report.h"
 
 namespace hemibake::cli {
 
@@ -13,20 +14,12 @@ namespace {
 
 constexpr const char* kTunable = "glibc.malloc.hugetlb";
 
-// "always" or "madvise" selected (glibc's tunable asks by madvise; "never" refuses it).
-bool kernelGivesHugePages() {
-    std::ifstream in("/sys/kernel/mm/transparent_hugepage/enabled");
-    std::string line;
-    if (!std::getline(in, line)) return false;
-    return line.find("[always]") != std::string::npos || line.find("[madvise]") != std::string::npos;
-}
-
 }  // namespace
 
 void restartWithHugePageHeap(char** argv) {
     const char* current = std::getenv("GLIBC_TUNABLES");
     if (current != nullptr && std::strstr(current, kTunable) != nullptr) return;  // set by the user, or by the restart
-    if (!kernelGivesHugePages()) return;
+    if (!transparentHugePagesAvailable()) return;  // glibc asks by madvise; "never" refuses it
     const bool had = current != nullptr;
     const std::string before = had ? current : "";
     const std::string tunables = (before.empty() ? "" : before + ":") + kTunable + "=1";

@@ -187,6 +187,13 @@ nlohmann::json BakeReport::toJson() const {
     return j;
 }
 
+bool transparentHugePagesAvailable() {
+    std::ifstream kernel("/sys/kernel/mm/transparent_hugepage/enabled");
+    std::string line;
+    if (!std::getline(kernel, line)) return false;
+    return line.find("[always]") != std::string::npos || line.find("[madvise]") != std::string::npos;
+}
+
 bool heapInHugePages() {
     const char* tunables = std::getenv("GLIBC_TUNABLES");
     if (tunables == nullptr) return false;
@@ -194,10 +201,7 @@ bool heapInHugePages() {
     std::istringstream list(tunables);
     for (std::string item; std::getline(list, item, ':');)
         if (item.rfind("glibc.malloc.hugetlb=", 0) == 0) on = item == "glibc.malloc.hugetlb=1";  // the last one counts
-    if (!on) return false;
-    std::ifstream kernel("/sys/kernel/mm/transparent_hugepage/enabled");
-    std::string line;
-    return std::getline(kernel, line) && line.find("[never]") == std::string::npos;
+    return on && transparentHugePagesAvailable();
 }
 
 double peakResidentMemoryMiB() {

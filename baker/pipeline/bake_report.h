@@ -97,9 +97,12 @@ struct BakeReport {
 
 // Peak resident memory of this process so far, MiB (Linux VmHWM).
 double peakResidentMemoryMiB();
+// Whether the kernel gives transparent huge pages to a program that asks (/sys/kernel/mm/transparent_hugepage/enabled
+// is "always" or "madvise"; false if unreadable). Thread-safe; never throws.
+bool transparentHugePagesAvailable();
 // Whether this process's glibc was started with its heap in transparent huge pages: GLIBC_TUNABLES holds
-// glibc.malloc.hugetlb=1 (the CLI restarts itself with it, cli/huge_page_heap.h), and the kernel's
-// transparent huge pages are not off. Thread-safe; never throws.
+// glibc.malloc.hugetlb=1 (the CLI restarts itself with it, cli/huge_page_heap.h), and
+// transparentHugePagesAvailable(). Thread-safe; never throws.
 bool heapInHugePages();
 
 }  // namespace hemibake

@@ -132,7 +132,7 @@ TEST(CliBake, EmitterLimitIsAKnob) {
 
 // The CLI restarts itself with glibc's heap in transparent huge pages (cli/huge_page_heap.h); bake.json says whether
 // it runs so. A GLIBC_TUNABLES that names the tunable is the user's choice and kept (=0 turns it off); other tunables
-// stay beside it. The light baked is the same byte for byte either way.
+// stay beside it. The light baked is the same texel for texel either way.
 TEST(CliBake, HeapInHugePagesUnlessTheUserSaysOtherwise) {
     std::string thp;
     std::getline(std::ifstream("/sys/kernel/mm/transparent_hugepage/enabled"), thp);
