@@ -47,6 +47,9 @@ constexpr int kGapTestStrata = 8;
 // The fewest rays an uneven shot traces, as a fraction of the row's (SolverSettings::unevenRaysPerLightShare): 256
 // at medium.
 constexpr double kLeastUnevenRayFraction = 1.0 / 16.0;
+// Rays a row traces in one task (tracePickedRow): whole packets of 16, about 60 µs of tracing, so the batch's other
+// threads can share a long row without the tasks' overhead showing.
+constexpr std::size_t kRowRaysPerTask = 256;
 // The bulk shoots in sweeps: every patch holding at least kSweepFraction of the largest unshot power, in the order
 // of a Z-curve through their centroids (see run()).
 constexpr double kSweepFraction = 0.5;
@@ -78,11 +81,21 @@ void shuffleStrata(Order& order, UniformStream& uniform) {
         std::swap(order[i], order[std::min(i, std::size_t(uniform() * double(i + 1)))]);
 }
 
+// A point of the unit square jittered within cell `d` of strata × strata: where directionInStratum's direction
+// comes from. The draws are taken here, in order; the direction can then be made anywhere (tracePickedRow).
+glm::dvec2 jitterInStratum(std::uint32_t d, int strata, UniformStream& uniform) {
+    // v drawn first: the order GCC gave the two draws when they were the arguments of one call, kept so the rays
+    // (and every bake) stay as they were.
+    const double v = (double(d / std::uint32_t(strata)) + uniform()) / strata;
+    const double u = (double(d % std::uint32_t(strata)) + uniform()) / strata;
+    return {u, v};
+}
+
 // A cosine-distributed direction jittered within stratum `d` of strata × strata (frame t, b, n).
 glm::dvec3 directionInStratum(const glm::dvec3& t, const glm::dvec3& b, const glm::dvec3& n, std::uint32_t d, int strata,
                               UniformStream& uniform) {
-    return cosineDirection(t, b, n, (double(d % std::uint32_t(strata)) + uniform()) / strata,
-                           (double(d / std::uint32_t(strata)) + uniform()) / strata);
+    const glm::dvec2 square = jitterInStratum(d, strata, uniform);
+    return cosineDirection(t, b, n, square.x, square.y);
 }
 
 }  // namespace
@@ -112,6 +125,21 @@ struct ProgressiveShooter::MergeScratch {
     std::vector<glm::dvec3> rayOrigins;      // rows by rays: the row's ray origins (lifted)
     std::vector<glm::dvec3> rayDirections;   // rows by rays: their directions
     std::vector<std::uint32_t> strataOrder;  // rows by rays: the direction stratum of each ray
+    // Rows by rays: each ray's random draws, taken in order by one thread; its origin and direction are made from
+    // them where it is traced (tracePickedRow).
+    struct RayDraws {
+        glm::dvec2 bary;      // on its element's triangle (unless it leaves from an inset point)
+        glm::dvec2 square;    // its direction's point of the unit square (cosineDirection)
+        std::uint32_t frame;  // its element and frame: rayFrames[frame]
+        std::int32_t inset;   // ≥ 0: it leaves from insetOrigins[inset]
+    };
+    struct RayFrame {
+        glm::dvec3 t, b, n;
+        std::uint32_t element;
+    };
+    std::vector<RayDraws> rayDraws;
+    std::vector<RayFrame> rayFrames;
+    std::vector<glm::dvec3> insetOrigins;
     std::vector<ElementHit> elementHits;     // rows by rays: what each of them hit
     std::vector<glm::dvec3> gapOrigins, gapDirections;  // gapFacing's rays
     std::vector<ElementHit> gapHits;                    // and what they hit
@@ -539,8 +567,11 @@ std::uint64_t ProgressiveShooter::tracePickedRow(const std::vector<std::pair<std
     shuffleStrata(order, uniform);
     const double rotation = 2.0 * M_PI * uniform();
     const double offset = uniform();
-    scratch.rayOrigins.resize(n);
-    scratch.rayDirections.resize(n);
+    // The draws are taken here, ray after ray, by this thread; origins and directions are made from them below, where
+    // the rays are traced in parallel (the sines, square roots and lifts cost as much as a third of the tracing).
+    scratch.rayDraws.resize(n);
+    scratch.rayFrames.clear();
+    scratch.insetOrigins.clear();
     std::uint64_t traced = n;
     std::size_t k = 0;
     double below = 0.0;
@@ -571,29 +602,49 @@ std::uint64_t ProgressiveShooter::tracePickedRow(const std::vector<std::pair<std
         //   (HangingPanel.RayRowsKeepTheTrappedLightAtLevelSizes) came out with the panel top −6.0 % instead of +2.5 %.
         const bool trimmed = el.areaM2[e] < triangleArea(el, e) * (1.0 - 1e-6);
         const GapFacing facing = trimmed ? GapFacing::Wide : end == k ? GapFacing::Open : gapFacing(e, traced);
-        std::array<glm::dvec3, kTightSamplesPerSide * kTightSamplesPerSide> inset;
-        std::size_t insetPoints = 0;
+        const std::size_t firstInset = scratch.insetOrigins.size();
         if (facing == GapFacing::Tight)
             forEachSubTriangleCentroid(kTightSamplesPerSide, [&](double wa, double wb) {
-                inset[insetPoints++] = rowRays_->lift(pointOnElement(el, e, wa, wb), normal);
+                scratch.insetOrigins.push_back(rowRays_->lift(pointOnElement(el, e, wa, wb), normal));
             });
         else if (facing == GapFacing::Wide)
-            inset[insetPoints++] = rowRays_->lift(el.centroid[e], normal);
+            scratch.insetOrigins.push_back(rowRays_->lift(el.centroid[e], normal));
+        const std::size_t insetPoints = scratch.insetOrigins.size() - firstInset;
+        const auto frame = std::uint32_t(scratch.rayFrames.size());
+        scratch.rayFrames.push_back({t, b, normal, e});
         const int q = strataForRays(std::int64_t(end - k));
         for (std::size_t first = k; k < end; ++k) {
             const std::size_t i = k - first;
-            if (insetPoints > 0) {
-                scratch.rayOrigins[k] = inset[i % insetPoints];
-            } else {
-                const glm::dvec2 bary = i < std::size_t(q) * std::size_t(q) ? pointInSubTriangle(q, int(i), uniform(), uniform())
-                                                                            : pointInSubTriangle(1, 0, uniform(), uniform());
-                scratch.rayOrigins[k] = rowRays_->lift(pointOnElement(el, e, bary.x, bary.y), normal);
-            }
-            scratch.rayDirections[k] = directionInStratum(t, b, normal, order[k], strata, uniform);
+            MergeScratch::RayDraws& draws = scratch.rayDraws[k];
+            draws.frame = frame;
+            draws.inset = insetPoints > 0 ? std::int32_t(firstInset + i % insetPoints) : -1;
+            if (insetPoints == 0)
+                draws.bary = i < std::size_t(q) * std::size_t(q) ? pointInSubTriangle(q, int(i), uniform(), uniform())
+                                                                 : pointInSubTriangle(1, 0, uniform(), uniform());
+            draws.square = jitterInStratum(order[k], strata, uniform);
         }
     }
+    scratch.rayOrigins.resize(n);
+    scratch.rayDirections.resize(n);
     scratch.elementHits.resize(n);
-    rowRays_->trace(scratch.rayOrigins, scratch.rayDirections, scratch.elementHits);
+    // Made and traced in runs of kRowRaysPerTask, in parallel: a batch pairs this shot with others that cost nothing
+    // (a cached row) or less (an uneven shot's fewer rays), and the threads done with theirs take runs of this one
+    // instead of waiting for it. Each ray is made from its own draws, and runs are whole packets of 16, so every ray
+    // meets the BVH in the packet it always did: the hits do not depend on how the runs were shared out.
+    const std::span<glm::dvec3> origins(scratch.rayOrigins), directions(scratch.rayDirections);
+    const std::span<ElementHit> hits(scratch.elementHits);
+    forEachPickInParallel((n + kRowRaysPerTask - 1) / kRowRaysPerTask, [&](std::size_t run) {
+        const std::size_t first = run * kRowRaysPerTask, count = std::min(kRowRaysPerTask, n - first);
+        for (std::size_t r = first; r < first + count; ++r) {
+            const MergeScratch::RayDraws& draws = scratch.rayDraws[r];
+            const MergeScratch::RayFrame& f = scratch.rayFrames[draws.frame];
+            origins[r] = draws.inset >= 0 ? scratch.insetOrigins[std::size_t(draws.inset)]
+                                          : rowRays_->lift(pointOnElement(el, f.element, draws.bary.x, draws.bary.y), f.n);
+            directions[r] = cosineDirection(f.t, f.b, f.n, draws.square.x, draws.square.y);
+        }
+        rowRays_->trace(std::span<const glm::dvec3>(origins.subspan(first, count)),
+                        std::span<const glm::dvec3>(directions.subspan(first, count)), hits.subspan(first, count));
+    });
     // Each ray is 1/n of the row: its form factors, sky and back-face shares sum to 1.
     const double perRay = 1.0 / double(n);
     std::size_t sky = 0, back = 0;
