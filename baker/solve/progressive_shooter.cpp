@@ -568,7 +568,8 @@ std::uint64_t ProgressiveShooter::tracePickedRow(const std::vector<std::pair<std
     const double rotation = 2.0 * M_PI * uniform();
     const double offset = uniform();
     // The draws are taken here, ray after ray, by this thread; origins and directions are made from them below, where
-    // the rays are traced in parallel (the sines, square roots and lifts cost as much as a third of the tracing).
+    // the rays are traced in parallel (making them is no small part of a row: directionInStratum alone took 3.0 CPU s
+    // a copy of the tiled level, against about 22 s for tracing the rows' rays).
     scratch.rayDraws.resize(n);
     scratch.rayFrames.clear();
     scratch.insetOrigins.clear();
