@@ -4,6 +4,11 @@
 #include <cmath>
 #include <memory>
 #include <unordered_map>
+#include <utility>
+#include <vector>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 #include "baker/direct/direct_light.h"
 #include "baker/direct/emissive_area_lights.h"
@@ -138,51 +143,71 @@ void replaceImplausibleReceivers(const PatchMesh& mesh, const SolveSettings& set
         const glm::dvec3 &a = el.vertices[t[0]], &b = el.vertices[t[1]], &c = el.vertices[t[2]];
         return std::max({glm::length(b - a), glm::length(c - b), glm::length(a - c)});
     };
-    std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> measuredByCell;
+    // The measured elements by cell: (cell key, element) sorted, so each cell's are one run in ascending order (the
+    // order the sums below take them in), found through one map entry per cell. A map of vectors cost a small heap
+    // block per cell, and the search ran on one thread: 1.3 CPU s a copy on 10 copies of a level, 0.9 s on one.
+    std::vector<std::pair<std::uint64_t, std::uint32_t>> measured;
+    measured.reserve(el.size() - report.implausibleReceivers);
     std::vector<glm::dvec3> patchSum(pa.size(), glm::dvec3(0.0));
     std::vector<double> patchArea(pa.size(), 0.0);
+    std::vector<std::uint32_t> replacedElements;
+    replacedElements.reserve(report.implausibleReceivers);
     for (std::size_t e = 0; e < el.size(); ++e) {
-        if (implausible[e]) continue;
+        if (implausible[e]) {
+            replacedElements.push_back(std::uint32_t(e));
+            continue;
+        }
         patchSum[el.patch[e]] += shotLight(e) * el.areaM2[e];
         patchArea[el.patch[e]] += el.areaM2[e];
         const glm::i64vec3 c = cellOf(el.centroid[e]);
-        measuredByCell[cellKey(c.x, c.y, c.z)].push_back(std::uint32_t(e));
+        measured.emplace_back(cellKey(c.x, c.y, c.z), std::uint32_t(e));
     }
-    std::vector<std::pair<std::uint32_t, glm::dvec3>> replaced;
-    std::vector<std::pair<double, std::uint32_t>> around;  // (distance, element)
-    for (std::size_t e = 0; e < el.size(); ++e) {
-        if (!implausible[e]) continue;
-        around.clear();
-        const glm::i64vec3 c = cellOf(el.centroid[e]);
-        for (std::int64_t z = c.z - 1; z <= c.z + 1; ++z)
-            for (std::int64_t y = c.y - 1; y <= c.y + 1; ++y)
-                for (std::int64_t x = c.x - 1; x <= c.x + 1; ++x) {
-                    const auto it = measuredByCell.find(cellKey(x, y, z));
-                    if (it == measuredByCell.end()) continue;
-                    for (const std::uint32_t m : it->second) {
-                        const double d = glm::length(el.centroid[m] - el.centroid[e]);
-                        if (el.instance[m] == el.instance[e] && glm::dot(el.normal[m], el.normal[e]) >= 0.9f && d <= cellM)
-                            around.emplace_back(d, m);
+    std::sort(measured.begin(), measured.end());
+    std::unordered_map<std::uint64_t, std::pair<std::size_t, std::size_t>> runOfCell;  // key → [first, last)
+    for (std::size_t first = 0, last = 0; first < measured.size(); first = last) {
+        while (last < measured.size() && measured[last].first == measured[first].first) ++last;
+        runOfCell.emplace(measured[first].first, std::make_pair(first, last));
+    }
+    std::vector<glm::dvec3> replacedShot(replacedElements.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, replacedElements.size(), 64), [&](const tbb::blocked_range<std::size_t>& r) {
+        std::vector<std::pair<double, std::uint32_t>> around;  // (distance, element)
+        for (std::size_t k = r.begin(); k != r.end(); ++k) {
+            const std::size_t e = replacedElements[k];
+            around.clear();
+            const glm::i64vec3 c = cellOf(el.centroid[e]);
+            for (std::int64_t z = c.z - 1; z <= c.z + 1; ++z)
+                for (std::int64_t y = c.y - 1; y <= c.y + 1; ++y)
+                    for (std::int64_t x = c.x - 1; x <= c.x + 1; ++x) {
+                        const auto it = runOfCell.find(cellKey(x, y, z));
+                        if (it == runOfCell.end()) continue;
+                        for (std::size_t i = it->second.first; i < it->second.second; ++i) {
+                            const std::uint32_t m = measured[i].second;
+                            const double d = glm::length(el.centroid[m] - el.centroid[e]);
+                            if (el.instance[m] == el.instance[e] && glm::dot(el.normal[m], el.normal[e]) >= 0.9f && d <= cellM)
+                                around.emplace_back(d, m);
+                        }
                     }
-                }
-        glm::dvec3 sum(0.0);
-        double area = 0.0;
-        if (!around.empty()) {
-            const double nearest = std::min_element(around.begin(), around.end())->first;
-            double radius = std::max(2.0 * longestEdgeM(e), 1e-12);
-            while (radius < nearest) radius *= 2.0;
-            for (const auto& [d, m] : around)
-                if (d <= radius) {
-                    sum += shotLight(m) * el.areaM2[m];
-                    area += el.areaM2[m];
-                }
+            glm::dvec3 sum(0.0);
+            double area = 0.0;
+            if (!around.empty()) {
+                const double nearest = std::min_element(around.begin(), around.end())->first;
+                double radius = std::max(2.0 * longestEdgeM(e), 1e-12);
+                while (radius < nearest) radius *= 2.0;
+                for (const auto& [d, m] : around)
+                    if (d <= radius) {
+                        sum += shotLight(m) * el.areaM2[m];
+                        area += el.areaM2[m];
+                    }
+            }
+            const std::uint32_t p = el.patch[e];
+            replacedShot[k] = area > 0.0             ? sum / area
+                              : patchArea[p] > 0.0 ? patchSum[p] / patchArea[p]
+                                                   : glm::dvec3(0.0);
         }
-        const std::uint32_t p = el.patch[e];
-        replaced.emplace_back(std::uint32_t(e), area > 0.0             ? sum / area
-                                                : patchArea[p] > 0.0 ? patchSum[p] / patchArea[p]
-                                                                     : glm::dvec3(0.0));
-    }
-    for (const auto& [e, shot] : replaced) {
+    });
+    for (std::size_t k = 0; k < replacedElements.size(); ++k) {
+        const std::uint32_t e = replacedElements[k];
+        const glm::dvec3& shot = replacedShot[k];
         solution.irradiance[e] = light.rayTraced[e] + glm::max(shot, glm::dvec3(0.0));
         solution.radiosity[e] = radiosityUnder(el, e, solution.irradiance[e]);
         if (!solution.ambientIrradiance.empty()) solution.ambientIrradiance[e] = glm::dvec3(0.0);
