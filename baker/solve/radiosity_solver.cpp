@@ -124,12 +124,14 @@ void replaceImplausibleReceivers(const PatchMesh& mesh, const SolveSettings& set
     const ElementArrays& el = mesh.elements;
     const PatchArrays& pa = mesh.patches;
     std::vector<std::uint8_t> implausible(el.size(), 0);
+    std::vector<std::uint32_t> replacedElements;
     for (std::size_t e = 0; e < el.size() && e < singlePixelFormFactor.size(); ++e)
         if (singlePixelFormFactor[e] > kImplausibleReceivedFormFactor) {
             implausible[e] = 1;
-            ++report.implausibleReceivers;
+            replacedElements.push_back(std::uint32_t(e));
         }
-    if (report.implausibleReceivers == 0) return;
+    report.implausibleReceivers = replacedElements.size();
+    if (replacedElements.empty()) return;
 
     // Shot light (all but the ray-traced part): the area-weighted mean over the measured elements nearest around
     // each replaced one, on the same instance and facing the same way: within twice its longest edge, or twice
@@ -150,13 +152,8 @@ void replaceImplausibleReceivers(const PatchMesh& mesh, const SolveSettings& set
     measured.reserve(el.size() - report.implausibleReceivers);
     std::vector<glm::dvec3> patchSum(pa.size(), glm::dvec3(0.0));
     std::vector<double> patchArea(pa.size(), 0.0);
-    std::vector<std::uint32_t> replacedElements;
-    replacedElements.reserve(report.implausibleReceivers);
     for (std::size_t e = 0; e < el.size(); ++e) {
-        if (implausible[e]) {
-            replacedElements.push_back(std::uint32_t(e));
-            continue;
-        }
+        if (implausible[e]) continue;
         patchSum[el.patch[e]] += shotLight(e) * el.areaM2[e];
         patchArea[el.patch[e]] += el.areaM2[e];
         const glm::i64vec3 c = cellOf(el.centroid[e]);
