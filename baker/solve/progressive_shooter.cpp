@@ -125,7 +125,6 @@ struct ProgressiveShooter::MergeScratch {
     std::vector<glm::dvec3> rayOrigins;      // rows by rays: the row's ray origins (lifted)
     std::vector<glm::dvec3> rayDirections;   // rows by rays: their directions
     std::vector<std::uint32_t> strataOrder;  // rows by rays: the direction stratum of each ray
-    std::vector<std::uint32_t> rayInSlot;    // rows by rays: the ray traced in each slot (stratum order)
     // Rows by rays: each ray's random draws, taken in order by one thread; its origin and direction are made from
     // them where it is traced (tracePickedRow).
     struct RayDraws {
@@ -626,26 +625,19 @@ std::uint64_t ProgressiveShooter::tracePickedRow(const std::vector<std::pair<std
             draws.square = jitterInStratum(order[k], strata, uniform);
         }
     }
-    // Traced in the order of their direction strata, not in the order drawn: a packet of 16 is then 16 neighbouring
-    // strata, one narrow cone that meets the same BVH nodes, where 16 shuffled strata point all over the hemisphere
-    // (bench_rays, 4,096 rays from a point: 219 → 184 ns a ray on one copy of the tiled level). Each slot's ray
-    // is the same ray as before, so every hit is too; the row sums equal shares, in any order the same.
-    std::vector<std::uint32_t>& rayInSlot = scratch.rayInSlot;
-    rayInSlot.resize(n);
-    for (std::size_t r = 0; r < n; ++r) rayInSlot[order[r]] = std::uint32_t(r);
     scratch.rayOrigins.resize(n);
     scratch.rayDirections.resize(n);
     scratch.elementHits.resize(n);
     // Made and traced in runs of kRowRaysPerTask, in parallel: a batch pairs this shot with others that cost nothing
     // (a cached row) or less (an uneven shot's fewer rays), and the threads done with theirs take runs of this one
     // instead of waiting for it. Each ray is made from its own draws, and runs are whole packets of 16, so every ray
-    // meets the BVH in the packet it always does: the hits do not depend on how the runs were shared out.
+    // meets the BVH in the packet it always did: the hits do not depend on how the runs were shared out.
     const std::span<glm::dvec3> origins(scratch.rayOrigins), directions(scratch.rayDirections);
     const std::span<ElementHit> hits(scratch.elementHits);
     forEachPickInParallel((n + kRowRaysPerTask - 1) / kRowRaysPerTask, [&](std::size_t run) {
         const std::size_t first = run * kRowRaysPerTask, count = std::min(kRowRaysPerTask, n - first);
         for (std::size_t r = first; r < first + count; ++r) {
-            const MergeScratch::RayDraws& draws = scratch.rayDraws[rayInSlot[r]];
+            const MergeScratch::RayDraws& draws = scratch.rayDraws[r];
             const MergeScratch::RayFrame& f = scratch.rayFrames[draws.frame];
             origins[r] = draws.inset >= 0 ? scratch.insetOrigins[std::size_t(draws.inset)]
                                           : rowRays_->lift(pointOnElement(el, f.element, draws.bary.x, draws.bary.y), f.n);
