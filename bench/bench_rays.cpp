@@ -14,6 +14,9 @@
 // "spread" places the 2,048 origins differently: 0 = in tile 0 (the same rays in every level), 1 = over the whole
 // level in random order (what a large level's work in atlas or bound order looks like), 2 = the same origins as
 // 1 along a Z-curve (mesh/z_curve.h). 0 against 2 on one level is the BVH's size, 1 against 2 the order's effect.
+// "directions" lays each origin's rays out as cosineDirections says (0 = independent, 1 = shuffled strata, 2 = strata
+// in order); "input" = 1 traces the same rays against the input's triangles (EmbreeScene) instead of the elements:
+// what a BVH of 10× fewer triangles would cost (session 38: 131 against 179 ns a ray on one copy).
 #include <benchmark/benchmark.h>
 
 #include <tbb/parallel_for.h>
@@ -22,6 +25,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cstdlib>
+#include <limits>
 #include <map>
 #include <memory>
 #include <random>
@@ -99,15 +103,28 @@ std::vector<RayOrigin> tileZeroOrigins(const PatchMesh& mesh, const Bounds& tile
 }
 
 // Cosine-distributed unit directions about n, `rays` of them, from `seed` (frame_math's Malley directions).
-std::vector<glm::dvec3> cosineDirections(const glm::dvec3& n, int rays, std::uint64_t seed) {
+// layout (the "directions" argument): 0 = independent points of the square; 1 = one jittered point per stratum of
+// a square grid, the strata in a shuffled order (the solver's rows were traced so before session 38); 2 = the same,
+// row after row of strata (the final gather's order, and the rows' since: a packet of 16 looks into one narrow cone).
+std::vector<glm::dvec3> cosineDirections(const glm::dvec3& n, int rays, std::uint64_t seed, int layout) {
     std::mt19937_64 rng(seed);
     std::uniform_real_distribution<double> u(0.0, 1.0);
     glm::dvec3 t, b;
     orthonormalBasis(n, t, b);
     std::vector<glm::dvec3> dirs(static_cast<std::size_t>(rays));
-    for (glm::dvec3& d : dirs) {
+    const int strata = int(std::lround(std::sqrt(double(rays))));
+    std::vector<int> order(static_cast<std::size_t>(rays));
+    for (int k = 0; k < rays; ++k) order[std::size_t(k)] = k;
+    if (layout == 1) std::shuffle(order.begin(), order.end(), rng);
+    for (int k = 0; k < rays; ++k) {
         const double u1 = u(rng), u2 = u(rng);
-        d = cosineDirection(t, b, n, u1, u2);
+        if (layout == 0 || strata * strata != rays) {
+            dirs[std::size_t(k)] = cosineDirection(t, b, n, u1, u2);
+            continue;
+        }
+        const int d = layout == 2 ? k : order[std::size_t(k)];
+        const int x = d % strata, y = d / strata;
+        dirs[std::size_t(k)] = cosineDirection(t, b, n, (x + u1) / strata, (y + u2) / strata);
     }
     return dirs;
 }
@@ -143,7 +160,7 @@ void BM_ElementRaysAgainstLevelSize(benchmark::State& state) {
         origins = std::move(sorted);
     }
     std::vector<std::vector<glm::dvec3>> dirs(origins.size());
-    for (std::size_t k = 0; k < origins.size(); ++k) dirs[k] = cosineDirections(origins[k].normal, raysPerOrigin, k + 1);
+    for (std::size_t k = 0; k < origins.size(); ++k) dirs[k] = cosineDirections(origins[k].normal, raysPerOrigin, k + 1, int(state.range(4)));
     std::atomic<std::uint64_t> hitCount{0};
     double distanceSum = 0.0;
     tbb::task_arena arena(threads);
@@ -154,7 +171,19 @@ void BM_ElementRaysAgainstLevelSize(benchmark::State& state) {
             tbb::parallel_for(tbb::blocked_range<std::size_t>(0, origins.size(), 16), [&](const tbb::blocked_range<std::size_t>& r) {
                 std::vector<ElementHit> hits(static_cast<std::size_t>(raysPerOrigin));
                 std::uint64_t found = 0;
+                std::vector<HitSide> sides(static_cast<std::size_t>(raysPerOrigin));
                 for (std::size_t k = r.begin(); k != r.end(); ++k) {
+                    if (state.range(5) == 1) {  // the input's triangles (EmbreeScene), not the elements
+                        lv.inputRays->intersectSides(lv.inputRays->offsetFromSurface(origins[k].position, origins[k].normal),
+                                                     dirs[k], std::numeric_limits<double>::infinity(),
+                                                     EmbreeScene::RayEnds::Lifted, sides);
+                        for (const HitSide& h : sides)
+                            if (h.hit) {
+                                ++found;
+                                distance[k] += h.distanceM;
+                            }
+                        continue;
+                    }
                     lv.elementRays->trace(lv.elementRays->lift(origins[k].position, origins[k].normal), dirs[k], hits);
                     for (const ElementHit& h : hits)
                         if (h.kind != ElementHit::Kind::Sky) {
@@ -173,13 +202,14 @@ void BM_ElementRaysAgainstLevelSize(benchmark::State& state) {
     state.SetItemsProcessed(std::int64_t(rays));
     state.counters["elements"] = double(lv.mesh.elements.size());
     state.counters["origins"] = double(origins.size());
+    state.counters["twins"] = double(lv.elementRays->twinElements());
     state.counters["hits"] = double(hitCount.load());
     state.counters["checksum"] = distanceSum;  // the hits' summed distance: which surfaces the rays met
     state.counters["ns/ray"] = benchmark::Counter(rays * 1e-9, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 BENCHMARK(BM_ElementRaysAgainstLevelSize)
-    ->ArgNames({"level", "rays", "threads", "spread"})
-    ->ArgsProduct({{0, 1, 2}, {256, 4096}, {1}, {0, 1, 2}})
+    ->ArgNames({"level", "rays", "threads", "spread", "directions", "input"})
+    ->ArgsProduct({{0, 1, 2}, {256, 4096}, {1}, {0, 1, 2}, {0, 1, 2}, {0, 1}})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
     ->MinTime(3.0);

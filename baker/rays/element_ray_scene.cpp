@@ -53,6 +53,9 @@ TwinKey twinKey(const ElementArrays& el, std::size_t e) {
 // Elements with a coincident, opposite copy (one of a double-sided surface's two sides).
 std::vector<std::uint8_t> elementsWithTwins(const ElementArrays& el) {
     std::vector<std::uint8_t> hasTwin(el.size(), 0);
+    // A scene without double-sided surfaces has no back sides: no map of every element's corners (ten copies of the
+    // tiled level, 0.95 M elements, spent 0.5 CPU s hashing them for nothing).
+    if (std::none_of(el.backSide.begin(), el.backSide.end(), [](std::uint8_t b) { return b != 0; })) return hasTwin;
     std::unordered_map<TwinKey, std::uint32_t, TwinKeyHash> fronts;
     for (std::size_t e = 0; e < el.size(); ++e)
         if (!el.backSide[e]) fronts.emplace(twinKey(el, e), std::uint32_t(e));
