@@ -104,8 +104,8 @@ std::vector<RayOrigin> tileZeroOrigins(const PatchMesh& mesh, const Bounds& tile
 
 // Cosine-distributed unit directions about n, `rays` of them, from `seed` (frame_math's Malley directions).
 // layout (the "directions" argument): 0 = independent points of the square; 1 = one jittered point per stratum of
-// a square grid, the strata in a shuffled order (the solver's rows were traced so before session 38); 2 = the same,
-// row after row of strata (the final gather's order, and the rows' since: a packet of 16 looks into one narrow cone).
+// a square grid, the strata in a shuffled order (the order a shooting row traces its rays in); 2 = the same, row
+// after row of strata (the final gather's order: a packet of 16 looks into one narrow cone).
 std::vector<glm::dvec3> cosineDirections(const glm::dvec3& n, int rays, std::uint64_t seed, int layout) {
     std::mt19937_64 rng(seed);
     std::uniform_real_distribution<double> u(0.0, 1.0);
