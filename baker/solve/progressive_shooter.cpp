@@ -673,12 +673,14 @@ void ProgressiveShooter::applyShot(const Shot& shot) {
     // Queue updates after the row, once per receiving patch (else once per element).
     const ElementArrays& el = mesh_.elements;
     const std::uint64_t stamp = ledger_.shots + 1;
+    queueUpdates_.clear();
     shot.row->forEach([&](std::uint32_t j, double) {
         const std::uint32_t p = el.patch[j];
         if (queuedAtShot_[p] == stamp) return;
         queuedAtShot_[p] = stamp;
-        queue_.set(p, channelSum(solution_.unshotRadiosity[p]) * mesh_.patches.areaM2[p]);
+        queueUpdates_.emplace_back(p, channelSum(solution_.unshotRadiosity[p]) * mesh_.patches.areaM2[p]);
     });
+    queue_.setMany(queueUpdates_);
     shotOnce_[shot.patch] = true;
     ++ledger_.shots;
     ledger_.hemicubes += shot.hemicubesRendered;

@@ -192,6 +192,7 @@ private:
     // Per patch: the last shot (ledger_.shots + 1) whose receivers updated its queue entry, so a shot updates each
     // receiving patch once, not once per element (in a furnace every shot reaches thousands of elements).
     std::vector<std::uint64_t> queuedAtShot_;
+    std::vector<std::pair<std::uint32_t, double>> queueUpdates_;  // applyShot's, for UnshotQueue::setMany
     // Unshot power per element, W (channel sum): where on its patch the light to shoot lies.
     std::vector<double> unshotW_;
     std::unique_ptr<std::atomic<std::uint8_t>[]> gapFacing_;  // per element: its GapFacing once known (rows by rays)

@@ -1,5 +1,7 @@
 #include "baker/solve/unshot_queue.h"
 
+#include <algorithm>
+
 namespace hemibake {
 
 UnshotQueue::UnshotQueue(std::size_t count) : count_(count), leaves_(1) {
@@ -16,6 +18,30 @@ void UnshotQueue::set(std::size_t index, double powerWatts) {
         const double a = max_[2 * node], b = max_[2 * node + 1];
         max_[node] = a >= b ? a : b;
         sum_[node] = sum_[2 * node] + sum_[2 * node + 1];
+    }
+}
+
+void UnshotQueue::setMany(std::span<const std::pair<std::uint32_t, double>> updates) {
+    scratch_.clear();
+    for (const auto& [index, powerWatts] : updates) {
+        const std::size_t node = leaves_ + index;
+        max_[node] = powerWatts;
+        sum_[node] = powerWatts;
+        if (node > 1) scratch_.push_back(node / 2);  // one leaf alone is the root
+    }
+    // Level by level: every leaf is at the same depth, so a level's parents are the next level's nodes, and a node is
+    // a pure function of its two children: recomputing each touched node once, children first, gives what the
+    // updates one by one gave.
+    std::sort(scratch_.begin(), scratch_.end());
+    while (!scratch_.empty()) {
+        scratch_.erase(std::unique(scratch_.begin(), scratch_.end()), scratch_.end());
+        for (std::size_t& node : scratch_) {
+            const double a = max_[2 * node], b = max_[2 * node + 1];
+            max_[node] = a >= b ? a : b;
+            sum_[node] = sum_[2 * node] + sum_[2 * node + 1];
+            node /= 2;  // stays sorted: halving keeps the order
+        }
+        if (scratch_.front() == 0) scratch_.clear();  // the root's parent
     }
 }
 
