@@ -15,8 +15,9 @@
 // level in random order (what a large level's work in atlas or bound order looks like), 2 = the same origins as
 // 1 along a Z-curve (mesh/z_curve.h). 0 against 2 on one level is the BVH's size, 1 against 2 the order's effect.
 // "directions" lays each origin's rays out as cosineDirections says (0 = independent, 1 = shuffled strata, 2 = strata
-// in order); "input" = 1 traces the same rays against the input's triangles (EmbreeScene) instead of the elements:
-// what a BVH of 10× fewer triangles would cost (session 38: 131 against 179 ns a ray on one copy).
+// in order); "input" = 1 traces the same rays against the input's triangles alone (EmbreeScene::intersectSides: no
+// element found), 2 = the elements found inside the input's faces (ElementRayScene over an EmbreeScene, what the
+// bake traces since session 39), 0 = the elements' own BVH (before).
 #include <benchmark/benchmark.h>
 
 #include <tbb/parallel_for.h>
@@ -61,7 +62,8 @@ struct Level {
     Scene scene;
     std::unique_ptr<EmbreeScene> inputRays;
     PatchMesh mesh;
-    std::unique_ptr<ElementRayScene> elementRays;
+    std::unique_ptr<ElementRayScene> elementRays;  // the elements' own BVH
+    std::unique_ptr<ElementRayScene> faceRays;     // the elements found in the input's faces
 };
 
 const Level& level(std::size_t index) {
@@ -76,6 +78,7 @@ const Level& level(std::size_t index) {
         slot->mesh = subdivideApart(slot->scene, *slot->inputRays, settings.subdivision,
                                     request.regions.empty() ? nullptr : &request, settings.sides);
         slot->elementRays = std::make_unique<ElementRayScene>(slot->mesh);
+        slot->faceRays = std::make_unique<ElementRayScene>(slot->mesh, *slot->inputRays);
     }
     return *slot;
 }
@@ -184,7 +187,8 @@ void BM_ElementRaysAgainstLevelSize(benchmark::State& state) {
                             }
                         continue;
                     }
-                    lv.elementRays->trace(lv.elementRays->lift(origins[k].position, origins[k].normal), dirs[k], hits);
+                    const ElementRayScene& rays = state.range(5) == 2 ? *lv.faceRays : *lv.elementRays;
+                    rays.trace(rays.lift(origins[k].position, origins[k].normal), dirs[k], hits);
                     for (const ElementHit& h : hits)
                         if (h.kind != ElementHit::Kind::Sky) {
                             ++found;
@@ -209,7 +213,7 @@ void BM_ElementRaysAgainstLevelSize(benchmark::State& state) {
 }
 BENCHMARK(BM_ElementRaysAgainstLevelSize)
     ->ArgNames({"level", "rays", "threads", "spread", "directions", "input"})
-    ->ArgsProduct({{0, 1, 2}, {256, 4096}, {1}, {0, 1, 2}, {0, 1, 2}, {0, 1}})
+    ->ArgsProduct({{0, 1, 2}, {256, 4096}, {1}, {0, 1, 2}, {0, 1, 2}, {0, 1, 2}})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
     ->MinTime(3.0);

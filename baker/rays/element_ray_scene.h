@@ -24,10 +24,17 @@ struct ElementHit {
     double distanceM = 0.0;     // along the unit direction
 };
 
+class EmbreeScene;
+
 class ElementRayScene {
 public:
     // Builds the BVH over `mesh`'s elements; `mesh` must outlive this. Throws std::runtime_error if Embree fails.
     explicit ElementRayScene(const PatchMesh& mesh);
+    // Traces into `input`'s faces instead (no BVH of its own) and finds each hit's element inside its face: `mesh` must
+    // be subdivided from input.scene(), and both must outlive this. Elements cut along solids leave most of a BVH's
+    // cost in their slivers (docs/performance.md, session 39); the input's faces have none. A hit where the face has no
+    // element (a part buried in a solid, trimmed away) goes on past it, as the elements' own BVH would let it.
+    ElementRayScene(const PatchMesh& mesh, const EmbreeScene& input);
     ~ElementRayScene();
     ElementRayScene(const ElementRayScene&) = delete;
     ElementRayScene& operator=(const ElementRayScene&) = delete;
@@ -48,10 +55,14 @@ public:
 
 private:
     struct Embree;
+    struct Faces;
+    template <class OriginOf>
+    void traceFaces(const OriginOf& originOf, std::span<const glm::dvec3> dirs, std::span<ElementHit> hits) const;
     template <class OriginOf>
     void tracePackets(const OriginOf& originOf, std::span<const glm::dvec3> dirs, std::span<ElementHit> hits) const;
     const PatchMesh& mesh_;
-    std::unique_ptr<Embree> embree_;
+    std::unique_ptr<Embree> embree_;  // the elements' BVH, or
+    std::unique_ptr<Faces> faces_;    // the input's faces and the elements in each
     double rayOffsetM_ = 0.0;
     std::size_t twins_ = 0;
 };

@@ -198,6 +198,18 @@ void EmbreeScene::intersectSides(const glm::dvec3& origin, std::span<const glm::
     }
 }
 
+FaceHit EmbreeScene::intersectFace(const glm::dvec3& origin, const glm::dvec3& unitDir, double tNearM) const {
+    RTCRayHit rayHit{};
+    rayHit.ray = makeRay(origin, unitDir, tNearM, std::numeric_limits<double>::infinity());
+    rayHit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rayHit.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    rtcIntersect1(rtcScene_.get(), &context, &rayHit);
+    if (rayHit.hit.geomID == RTC_INVALID_GEOMETRY_ID) return {};
+    return {true, rayHit.hit.geomID, rayHit.hit.primID, rayHit.hit.u, rayHit.hit.v, double(rayHit.ray.tfar)};
+}
+
 std::optional<Hit> EmbreeScene::intersect(const glm::dvec3& origin, const glm::dvec3& dir, double tMaxM, RayEnds start) const {
     const double tMin = start == RayEnds::Lifted ? 0.0 : rayEpsilonM_;
     if (!(tMaxM > tMin)) return std::nullopt;

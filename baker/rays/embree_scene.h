@@ -56,6 +56,15 @@ struct HitSide {
     bool frontFacing = false;    // as Hit::frontFacing
 };
 
+// The input face a ray meets: which, where on it (Embree's barycentrics u, v of its corners 1 and 2, in the order of
+// triangle()), and how far along the unit direction.
+struct FaceHit {
+    bool hit = false;
+    std::uint32_t instance = 0, face = 0;
+    float u = 0.0f, v = 0.0f;
+    double distanceM = 0.0;
+};
+
 // Ray k of a packet of 16: origin (float, relative to the scene's origin), unit direction, [tnear, tfar], all masks.
 inline void setPacketRay(RTCRay16& packet, std::size_t k, const glm::vec3& origin, const glm::dvec3& unitDir, float tnear,
                          float tfar) {
@@ -99,6 +108,14 @@ public:
     // double-precision normal, as there). Throws std::invalid_argument if the sizes differ.
     void intersectSides(const glm::dvec3& origin, std::span<const glm::dvec3> unitDirs, double tMaxM, RayEnds start,
                         std::span<HitSide> out) const;
+    // The nearest face each ray meets, from origins[k] (lifted: nothing is skipped near them) along unit directions
+    // dirs[k] (both relative to nothing: world space), traced in packets of 16; `originOf(k)` gives origin k, so one
+    // shared origin needs no copies. Thread-safe.
+    template <class OriginOf>
+    void intersectFaces(const OriginOf& originOf, std::span<const glm::dvec3> unitDirs, std::span<FaceHit> out) const;
+    // The nearest face along one ray beyond tNearM (world space, unit direction). Thread-safe.
+    FaceHit intersectFace(const glm::dvec3& origin, const glm::dvec3& unitDir, double tNearM) const;
+
     // Nearest hit closer than tMaxM along the ray, `dir` as for occludedRay.
     std::optional<Hit> intersect(const glm::dvec3& origin, const glm::dvec3& dir, double tMaxM,
                                  RayEnds start = RayEnds::OnSurface) const;
@@ -136,5 +153,32 @@ private:
     glm::dvec3 origin_{0.0};
     double rayEpsilonM_ = 0.0;
 };
+
+template <class OriginOf>
+void EmbreeScene::intersectFaces(const OriginOf& originOf, std::span<const glm::dvec3> unitDirs, std::span<FaceHit> out) const {
+    constexpr std::size_t kPacket = 16;
+    for (std::size_t first = 0; first < unitDirs.size(); first += kPacket) {
+        const std::size_t count = std::min(kPacket, unitDirs.size() - first);
+        alignas(64) RTCRayHit16 packet;
+        alignas(64) int valid[kPacket];
+        for (std::size_t k = 0; k < kPacket; ++k) {
+            valid[k] = k < count ? -1 : 0;
+            const std::size_t ray = first + std::min(k, count - 1);
+            setPacketRay(packet.ray, k, glm::vec3(originOf(ray) - origin_), unitDirs[ray], 0.0f,
+                         std::numeric_limits<float>::infinity());
+            packet.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+            packet.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+        }
+        RTCIntersectContext context;
+        rtcInitIntersectContext(&context);
+        rtcIntersect16(valid, rtcScene_.get(), &context, &packet);
+        for (std::size_t k = 0; k < count; ++k) {
+            FaceHit& hit = out[first + k];
+            hit = FaceHit{};
+            if (packet.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID) continue;
+            hit = {true, packet.hit.geomID[k], packet.hit.primID[k], packet.hit.u[k], packet.hit.v[k], double(packet.ray.tfar[k])};
+        }
+    }
+}
 
 }  // namespace hemibake

@@ -52,7 +52,7 @@ std::unique_ptr<SolvedScene> solveScene(const Scene& scene, const SolveSettings&
         solved.exposedArea = applyExposedAreas(scene, rays, solved.mesh, settings.exposure);
         solved.pool = std::make_unique<HemicubePool>(solved.mesh, settings.solver.hemicubeResolution);
         if (settings.solver.rowSampling == RowSampling::Rays)
-            solved.elementRays = std::make_unique<ElementRayScene>(solved.mesh);
+            solved.elementRays = std::make_unique<ElementRayScene>(solved.mesh, rays);
         prepareSeconds += clock.seconds() - prepareStart;
         solved.report = solveRadiosity(scene, solved.mesh, settings, *solved.pool, rays, solved.solution, progress,
                                        solved.elementRays.get());
