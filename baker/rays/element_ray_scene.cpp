@@ -437,20 +437,11 @@ void ElementRayScene::traceFaces(const OriginOf& originOf, std::span<const glm::
 template <class OriginOf>
 void ElementRayScene::tracePackets(const OriginOf& originOf, std::span<const glm::dvec3> dirs, std::span<ElementHit> hits) const {
     if (hits.size() != dirs.size()) throw std::invalid_argument("ElementRayScene::trace: hits and directions differ in count");
-    constexpr std::size_t kPacket = 16;
     const std::vector<glm::vec3>& normals = mesh_.elements.normal;
-    for (std::size_t first = 0; first < dirs.size(); first += kPacket) {
-        const std::size_t count = std::min(kPacket, dirs.size() - first);
+    for (std::size_t first = 0; first < dirs.size(); first += 16) {
         alignas(64) RTCRayHit16 packet;
-        alignas(64) int valid[kPacket];
-        for (std::size_t k = 0; k < kPacket; ++k) {
-            valid[k] = k < count ? -1 : 0;
-            const std::size_t ray = first + std::min(k, count - 1);
-            setPacketRay(packet.ray, k, glm::vec3(originOf(ray) - embree_->origin), dirs[ray], 0.0f,
-                         std::numeric_limits<float>::infinity());
-            packet.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
-            packet.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
-        }
+        alignas(64) int valid[16];
+        const std::size_t count = fillHitPacket(packet, valid, originOf, embree_->origin, dirs, first);
         RTCIntersectContext context;
         rtcInitIntersectContext(&context);
         rtcIntersect16(valid, embree_->scene, &context, &packet);

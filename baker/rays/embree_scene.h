@@ -20,6 +20,7 @@
 // rayEpsilonM() is 4e-6 × the diagonal: 16 µm for a 2 × 2 × 3 m room, 0.7 mm for a 100 m cube of a level.
 //
 // Thread safety: every const query may run concurrently (Embree's rtcIntersect1/rtcOccluded1/rtcOccluded16 are).
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <limits>
@@ -80,6 +81,24 @@ inline void setPacketRay(RTCRay16& packet, std::size_t k, const glm::vec3& origi
     packet.mask[k] = std::numeric_limits<unsigned>::max();
     packet.id[k] = unsigned(k);
     packet.flags[k] = 0;
+}
+
+// Fills a packet of 16 for intersection with rays first.. of `unitDirs` (at most 16; lanes past the end repeat the
+// last ray, masked off in `valid`) from originOf(ray) (world space, made relative to `sceneOrigin` in float),
+// [0, ∞), no hit yet. Returns how many lanes are live.
+template <class OriginOf>
+std::size_t fillHitPacket(RTCRayHit16& packet, int (&valid)[16], const OriginOf& originOf, const glm::dvec3& sceneOrigin,
+                          std::span<const glm::dvec3> unitDirs, std::size_t first) {
+    const std::size_t count = std::min<std::size_t>(16, unitDirs.size() - first);
+    for (std::size_t k = 0; k < 16; ++k) {
+        valid[k] = k < count ? -1 : 0;
+        const std::size_t ray = first + std::min(k, count - 1);
+        setPacketRay(packet.ray, k, glm::vec3(originOf(ray) - sceneOrigin), unitDirs[ray], 0.0f,
+                     std::numeric_limits<float>::infinity());
+        packet.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+        packet.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+    }
+    return count;
 }
 
 class EmbreeScene {
@@ -156,19 +175,10 @@ private:
 
 template <class OriginOf>
 void EmbreeScene::intersectFaces(const OriginOf& originOf, std::span<const glm::dvec3> unitDirs, std::span<FaceHit> out) const {
-    constexpr std::size_t kPacket = 16;
-    for (std::size_t first = 0; first < unitDirs.size(); first += kPacket) {
-        const std::size_t count = std::min(kPacket, unitDirs.size() - first);
+    for (std::size_t first = 0; first < unitDirs.size(); first += 16) {
         alignas(64) RTCRayHit16 packet;
-        alignas(64) int valid[kPacket];
-        for (std::size_t k = 0; k < kPacket; ++k) {
-            valid[k] = k < count ? -1 : 0;
-            const std::size_t ray = first + std::min(k, count - 1);
-            setPacketRay(packet.ray, k, glm::vec3(originOf(ray) - origin_), unitDirs[ray], 0.0f,
-                         std::numeric_limits<float>::infinity());
-            packet.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
-            packet.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
-        }
+        alignas(64) int valid[16];
+        const std::size_t count = fillHitPacket(packet, valid, originOf, origin_, unitDirs, first);
         RTCIntersectContext context;
         rtcInitIntersectContext(&context);
         rtcIntersect16(valid, rtcScene_.get(), &context, &packet);
