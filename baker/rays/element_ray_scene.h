@@ -1,10 +1,14 @@
 #pragma once
-// Rays against the solver's elements (not the input triangles): what a hemicube pixel shows, found by Embree.
-// primID = element index. Vertices are float relative to the centre of the elements' bounds, as in EmbreeScene.
+// Which of the solver's elements a ray meets: what a hemicube pixel shows. Two ways to find it:
+//  - into the input's faces (an EmbreeScene), each hit's element found inside its face: what the solve uses. A
+//    point on no element of its face (a part buried in a solid and cut away) lets the ray go on past it.
+//  - into a BVH of the elements themselves (primID = element index; float vertices relative to the centre of the
+//    elements' bounds, as in EmbreeScene): built from a mesh alone (tests, tools).
 //
-// A double-sided surface is two coincident elements with opposite normals (mesh/patches.h). Both are in the BVH; an
-// intersection filter drops the one whose back the ray meets, so the other one is found at the same distance (a
-// hemicube pushes it back in depth instead). An element without such a twin seen from behind is a Back hit.
+// A double-sided surface is two coincident elements with opposite normals (mesh/patches.h). The ray meets the one
+// whose front it sees (in the elements' BVH an intersection filter drops the other; in a face, the side it arrives on
+// picks the copy), at the same distance (a hemicube pushes the other back in depth instead). An element without
+// such a twin seen from behind is a Back hit.
 //
 // Thread safety: trace() may run concurrently.
 #include <cstdint>
