@@ -52,6 +52,13 @@ TwinKey twinKey(const ElementArrays& el, std::size_t e) {
     return k;
 }
 
+// The bounds of the elements' vertices (the ray offset and the float origin of both ways to trace).
+Bounds elementBounds(const ElementArrays& el) {
+    Bounds bounds;
+    for (const glm::dvec3& v : el.vertices) bounds.extend(v);
+    return bounds;
+}
+
 // Elements with a coincident, opposite copy (one of a double-sided surface's two sides).
 std::vector<std::uint8_t> elementsWithTwins(const ElementArrays& el) {
     std::vector<std::uint8_t> hasTwin(el.size(), 0);
@@ -112,13 +119,9 @@ struct ElementRayScene::Embree {
         scene = rtcNewScene(device);
         check("creating the scene");
         rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);  // no ray slips between two elements through their shared edge
-        glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
-        for (const glm::dvec3& v : el.vertices) {
-            lo = glm::min(lo, v);
-            hi = glm::max(hi, v);
-        }
-        origin = el.vertices.empty() ? glm::dvec3(0.0) : 0.5 * (lo + hi);
-        diagonal = el.vertices.empty() ? 0.0 : glm::length(hi - lo);
+        const Bounds bounds = elementBounds(el);
+        origin = bounds.empty() ? glm::dvec3(0.0) : bounds.centre();
+        diagonal = bounds.empty() ? 0.0 : bounds.diagonal();
         hasTwin = elementsWithTwins(el);
         filterData = {&el.normal, &hasTwin};
         if (el.size() == 0) {
@@ -358,12 +361,8 @@ struct ElementRayScene::Faces {
 namespace {
 
 double elementDiagonalM(const PatchMesh& mesh) {
-    glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
-    for (const glm::dvec3& v : mesh.elements.vertices) {
-        lo = glm::min(lo, v);
-        hi = glm::max(hi, v);
-    }
-    return mesh.elements.vertices.empty() ? 0.0 : glm::length(hi - lo);
+    const Bounds bounds = elementBounds(mesh.elements);
+    return bounds.empty() ? 0.0 : bounds.diagonal();
 }
 
 }  // namespace

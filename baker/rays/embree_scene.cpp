@@ -199,8 +199,12 @@ void EmbreeScene::intersectSides(const glm::dvec3& origin, std::span<const glm::
 }
 
 FaceHit EmbreeScene::intersectFace(const glm::dvec3& origin, const glm::dvec3& unitDir, double tNearM) const {
+    return nearestFace(origin, unitDir, tNearM, std::numeric_limits<double>::infinity());
+}
+
+FaceHit EmbreeScene::nearestFace(const glm::dvec3& origin, const glm::dvec3& unitDir, double tNearM, double tFarM) const {
     RTCRayHit rayHit{};
-    rayHit.ray = makeRay(origin, unitDir, tNearM, std::numeric_limits<double>::infinity());
+    rayHit.ray = makeRay(origin, unitDir, tNearM, tFarM);
     rayHit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rayHit.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
     RTCIntersectContext context;
@@ -214,20 +218,14 @@ std::optional<Hit> EmbreeScene::intersect(const glm::dvec3& origin, const glm::d
     const double tMin = start == RayEnds::Lifted ? 0.0 : rayEpsilonM_;
     if (!(tMaxM > tMin)) return std::nullopt;
     const glm::dvec3 unitDir = unitDirection(dir);
-    RTCRayHit rayHit{};
-    rayHit.ray = makeRay(origin, unitDir, tMin, tMaxM);
-    rayHit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    rayHit.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    rtcIntersect1(rtcScene_.get(), &context, &rayHit);
-    if (rayHit.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
+    const FaceHit nearest = nearestFace(origin, unitDir, tMin, tMaxM);
+    if (!nearest.hit) return std::nullopt;
 
     Hit hit;
-    hit.instance = rayHit.hit.geomID;
-    hit.face = rayHit.hit.primID;
-    hit.distanceM = double(rayHit.ray.tfar);
-    hit.barycentrics = {double(rayHit.hit.u), double(rayHit.hit.v)};
+    hit.instance = nearest.instance;
+    hit.face = nearest.face;
+    hit.distanceM = nearest.distanceM;
+    hit.barycentrics = {double(nearest.u), double(nearest.v)};
     const SurfaceMesh& mesh = scene_->instances[hit.instance].mesh;
     const auto& v = triangle(hit.instance, hit.face);
     const double w0 = 1.0 - hit.barycentrics.x - hit.barycentrics.y;

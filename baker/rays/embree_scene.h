@@ -164,6 +164,8 @@ private:
 
     void checkDevice(const char* what) const;
     RTCRay makeRay(const glm::dvec3& origin, const glm::dvec3& unitDir, double tNearM, double tFarM) const;
+    // The nearest face along one ray in [tNearM, tFarM] (intersect and intersectFace).
+    FaceHit nearestFace(const glm::dvec3& origin, const glm::dvec3& unitDir, double tNearM, double tFarM) const;
 
     const Scene* scene_ = nullptr;
     std::unique_ptr<RTCDeviceTy, DeviceDeleter> device_;

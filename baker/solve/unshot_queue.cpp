@@ -14,11 +14,7 @@ void UnshotQueue::set(std::size_t index, double powerWatts) {
     std::size_t node = leaves_ + index;
     max_[node] = powerWatts;
     sum_[node] = powerWatts;
-    for (node /= 2; node >= 1; node /= 2) {
-        const double a = max_[2 * node], b = max_[2 * node + 1];
-        max_[node] = a >= b ? a : b;
-        sum_[node] = sum_[2 * node] + sum_[2 * node + 1];
-    }
+    for (node /= 2; node >= 1; node /= 2) pull(node);
 }
 
 void UnshotQueue::setMany(std::span<const std::pair<std::uint32_t, double>> updates) {
@@ -36,9 +32,7 @@ void UnshotQueue::setMany(std::span<const std::pair<std::uint32_t, double>> upda
     while (!scratch_.empty()) {
         scratch_.erase(std::unique(scratch_.begin(), scratch_.end()), scratch_.end());
         for (std::size_t& node : scratch_) {
-            const double a = max_[2 * node], b = max_[2 * node + 1];
-            max_[node] = a >= b ? a : b;
-            sum_[node] = sum_[2 * node] + sum_[2 * node + 1];
+            pull(node);
             node /= 2;  // stays sorted: halving keeps the order
         }
         if (scratch_.front() == 0) scratch_.clear();  // the root's parent

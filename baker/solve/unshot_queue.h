@@ -29,6 +29,13 @@ public:
     std::size_t size() const { return count_; }
 
 private:
+    // Node `node`'s maximum and sum from its two children's.
+    void pull(std::size_t node) {
+        const double a = max_[2 * node], b = max_[2 * node + 1];
+        max_[node] = a >= b ? a : b;
+        sum_[node] = sum_[2 * node] + sum_[2 * node + 1];
+    }
+
     std::size_t count_;
     std::size_t leaves_;
     std::vector<double> max_;
