@@ -28,7 +28,8 @@ the texel-weighted mean of the bake over the reference's, minus one (what a user
 Re-runs resume: finished rows are kept in WORK/levels.json (keyed by level, method and setting) and skipped.
 --speed-only bakes and nothing else (no layout, reference or path tracer): time, memory and texels per level, for
 sizes whose reference would take hours; it writes the speed table and levels_scaling.png (time and memory per texel
-against texels), and leaves docs/tradeoff.md alone.
+against texels; time per texel by stage and the cost of a ray, from each bake's bake.json), and leaves
+docs/tradeoff.md alone.
 """
 import argparse
 import json
@@ -127,6 +128,30 @@ def sweep_level(a, results, kind, triangles):
     path_tracer_rows(a, level, name, layout, reference, save)
 
 
+# The stages a bake's time per texel is split into on the scaling plot: the two that trace rays through the whole
+# level's BVH, their direct-light passes, and the rest (loading, preparing the solve, the local bound, unwrap, output).
+STAGES = (("shooting", "shooting rows"), ("finalGather", "final gather"), ("direct", "direct light (elements, texels)"),
+          ("rest", "the rest"))
+
+
+def stage_seconds(report):
+    """Wall seconds per stage of STAGES from a bake.json."""
+    conv, light = report.get("convergence", {}).get("seconds", {}), report.get("lightmap", {}).get("seconds", {})
+    total = (report.get("timings") or {}).get("total", 0.0)
+    stages = {"shooting": conv.get("shoot", 0.0), "finalGather": light.get("gather", 0.0),
+              "direct": conv.get("direct", 0.0) + light.get("direct", 0.0)}
+    stages["rest"] = max(total - sum(stages.values()), 0.0)
+    return stages
+
+
+def row_stages(r):
+    """A row's stage seconds: recorded with it, or read from its kept bake.json (rows recorded before they were)."""
+    if r.get("stages"):
+        return r["stages"]
+    path = os.path.join(r["outDir"], "bake.json") if r.get("outDir") else None
+    return stage_seconds(json.load(open(path))) if path and os.path.exists(path) else None
+
+
 def bake_rows(a, level, name, gltf, density, reference, save):
     """A row per preset and variant: time, memory, what was drawn and traced; scored against `reference` if given."""
     base = os.path.dirname(gltf)
@@ -158,6 +183,7 @@ def bake_rows(a, level, name, gltf, density, reference, save):
                "timings": report.get("timings"), "outDir": out_dir,
                "texels": report.get("lightmap", {}).get("texels"),
                "rowRaysTraced": report.get("convergence", {}).get("rowRaysTraced"),
+               "stages": stage_seconds(report),
                "emittersByRays": report.get("convergence", {}).get("emittersByRays"),
                "warnings": report.get("warnings"),
                **(scores(a.binary, out_dir, reference) if reference else {})}
@@ -260,17 +286,51 @@ def plot_scaling(results, path, preset="medium"):
         return False
     points = sorted(({"kind": level.get("kind", "?"), "texels": r.get("texels") or level.get("texels"),
                       "seconds": r["seconds"], "peakMiB": r["peakMiB"], "elements": r.get("sceneTriangles") or 0,
-                      "label": level["level"]}
+                      "label": level["level"], "stages": row_stages(r), "rowRays": r.get("rowRaysTraced") or 0,
+                      "gatherRays": r.get("gatherRays") or 0}
                      for level in results.values() for r in level["rows"].values()
                      if r["method"] == "bake" and r["setting"] == preset and (r.get("texels") or level.get("texels"))),
                     key=lambda p: (p["kind"], p["texels"]))
     if not points:
         return False
-    fig, axes = plt.subplots(1, 3, figsize=(15, 4.2))
+    staged = [p for p in points if p["stages"]]
+    fig, grid = plt.subplots(2 if staged else 1, 3, figsize=(15, 8.4 if staged else 4.2), squeeze=False)
+    axes = list(grid.flat)
+    if staged:
+        axes[5].axis("off")
     panels = ((lambda p: 1e6 * p["seconds"] / p["texels"], "wall time per texel, µs"),
               (lambda p: 1024.0 * 1024.0 * p["peakMiB"] / p["texels"], "peak memory per texel, bytes"),
               (lambda p: 1e6 * p["seconds"] / p["elements"] if p["elements"] else float("nan"),
                "wall time per element triangle, µs"))
+    if staged:
+        # Which stage grows: each stage's wall time per texel; and the two ray stages' wall time per ray traced
+        # (the same rays per texel at every size, so any growth there is the cost of a ray, not the amount of work).
+        ax = axes[3]
+        for key, label in STAGES:
+            for kind in sorted({p["kind"] for p in staged}):
+                mine = [p for p in staged if p["kind"] == kind]
+                ax.loglog([p["texels"] for p in mine], [1e6 * p["stages"][key] / p["texels"] for p in mine], "-o",
+                          label=label if len({p["kind"] for p in staged}) == 1 else f"{kind}: {label}")
+        ax.set_xlabel("lightmap texels")
+        ax.set_ylabel("wall time per texel by stage, µs")
+        ax.set_title(f"{preset} preset, by stage", fontsize=9)
+        ax.grid(True, which="both", lw=0.3)
+        ax.legend(fontsize=7)
+        ax = axes[4]
+        for key, rays, label in (("shooting", "rowRays", "shooting rows"), ("finalGather", "gatherRays", "final gather")):
+            for kind in sorted({p["kind"] for p in staged}):
+                mine = [p for p in staged if p["kind"] == kind and p[rays]]
+                ax.semilogx([p["texels"] for p in mine], [1e9 * p["stages"][key] / p[rays] for p in mine], "-o",
+                            label=label if len({p["kind"] for p in staged}) == 1 else f"{kind}: {label}")
+                for p in mine:
+                    ax.annotate(f"{1e9 * p['stages'][key] / p[rays]:.0f}", (p["texels"], 1e9 * p["stages"][key] / p[rays]),
+                                fontsize=7, textcoords="offset points", xytext=(3, 3))
+        ax.set_xlabel("lightmap texels")
+        ax.set_ylabel("wall time per ray (2 cores), ns")
+        ax.set_ylim(bottom=0)
+        ax.set_title(f"{preset} preset, the cost of a ray", fontsize=9)
+        ax.grid(True, which="both", lw=0.3)
+        ax.legend(fontsize=7)
     for ax, (value, ylabel) in zip(axes, panels):
         for kind in sorted({p["kind"] for p in points}):
             mine = [p for p in points if p["kind"] == kind]
@@ -363,6 +423,19 @@ def write_docs(results, docs, png, scaling_png=None, speed_only=False):
             trade += ["", f"The path tracer {how} the medium preset's per-texel error in {t_pt:.0f} s: "
                           f"**{ratio:.1f}×** the bake's time (issue 16 asks ≥ 10× on the clean ~10k level)."]
         trade.append("")
+    staged = [(level, r, row_stages(r)) for level in results.values() for r in level["rows"].values()
+              if r["method"] == "bake" and row_stages(r) and (r.get("texels") or level.get("texels"))]
+    if staged:
+        perf += ["", "Where the time per texel goes: each stage's wall time per texel (µs), and the two stages that trace "
+                     "rays through the whole level, per ray traced (wall ns on 2 cores; the same rays per texel at "
+                     "every size, so a growth there is the cost of a ray, not more work).", "",
+                 "| level | preset | " + " | ".join(label for _, label in STAGES) + " | shooting, ns / row ray | final gather, ns / ray |",
+                 "|---|---|" + "---|" * len(STAGES) + "---|---|"]
+        for level, r, st in sorted(staged, key=lambda x: (x[0]["level"], x[1]["setting"])):
+            texels = r.get("texels") or level.get("texels")
+            per_ray = lambda key, rays: f"{1e9 * st[key] / rays:.0f}" if rays else "—"
+            perf.append(f"| {level['level']} | {r['setting']} | " + " | ".join(f"{1e6 * st[key] / texels:.0f}" for key, _ in STAGES) +
+                        f" | {per_ray('shooting', r.get('rowRaysTraced'))} | {per_ray('finalGather', r.get('gatherRays'))} |")
     replace_section(os.path.join(docs, "performance.md"), "\n".join(perf))
     if not speed_only:
         replace_section(os.path.join(docs, "tradeoff.md"), "\n".join(trade))
