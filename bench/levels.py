@@ -132,6 +132,8 @@ def sweep_level(a, results, kind, triangles):
 # level's BVH, their direct-light passes, and the rest (loading, preparing the solve, the local bound, unwrap, output).
 STAGES = (("shooting", "shooting rows"), ("finalGather", "final gather"), ("direct", "direct light (elements, texels)"),
           ("rest", "the rest"))
+# The two ray stages: the stage, the row's count of the rays it traced, and its label.
+RAY_STAGES = (("shooting", "rowRaysTraced", "shooting rows"), ("finalGather", "gatherRays", "final gather"))
 
 
 def stage_seconds(report):
@@ -150,6 +152,11 @@ def row_stages(r):
         return r["stages"]
     path = os.path.join(r["outDir"], "bake.json") if r.get("outDir") else None
     return stage_seconds(json.load(open(path))) if path and os.path.exists(path) else None
+
+
+def ns_per_ray(stages, r, key, rays):
+    """Wall ns a ray of ray stage `key`, whose rays row `r` counts under `rays`; None if it traced none."""
+    return 1e9 * stages[key] / r[rays] if r.get(rays) else None
 
 
 def bake_rows(a, level, name, gltf, density, reference, save):
@@ -286,8 +293,7 @@ def plot_scaling(results, path, preset="medium"):
         return False
     points = sorted(({"kind": level.get("kind", "?"), "texels": r.get("texels") or level.get("texels"),
                       "seconds": r["seconds"], "peakMiB": r["peakMiB"], "elements": r.get("sceneTriangles") or 0,
-                      "label": level["level"], "stages": row_stages(r), "rowRays": r.get("rowRaysTraced") or 0,
-                      "gatherRays": r.get("gatherRays") or 0}
+                      "label": level["level"], "stages": row_stages(r), "row": r}
                      for level in results.values() for r in level["rows"].values()
                      if r["method"] == "bake" and r["setting"] == preset and (r.get("texels") or level.get("texels"))),
                     key=lambda p: (p["kind"], p["texels"]))
@@ -302,46 +308,40 @@ def plot_scaling(results, path, preset="medium"):
               (lambda p: 1024.0 * 1024.0 * p["peakMiB"] / p["texels"], "peak memory per texel, bytes"),
               (lambda p: 1e6 * p["seconds"] / p["elements"] if p["elements"] else float("nan"),
                "wall time per element triangle, µs"))
+    def finish(ax, ylabel, title):
+        ax.set_xlabel("lightmap texels")
+        ax.set_ylabel(ylabel)
+        ax.set_title(f"{preset} preset{title}", fontsize=9)
+        ax.grid(True, which="both", lw=0.3)
+        ax.legend(fontsize=7)
+
     if staged:
         # Which stage grows: each stage's wall time per texel; and the two ray stages' wall time per ray traced
         # (the same rays per texel at every size, so any growth there is the cost of a ray, not the amount of work).
-        ax = axes[3]
+        kinds = sorted({p["kind"] for p in staged})
+        name = lambda kind, label: label if len(kinds) == 1 else f"{kind}: {label}"
         for key, label in STAGES:
-            for kind in sorted({p["kind"] for p in staged}):
+            for kind in kinds:
                 mine = [p for p in staged if p["kind"] == kind]
-                ax.loglog([p["texels"] for p in mine], [1e6 * p["stages"][key] / p["texels"] for p in mine], "-o",
-                          label=label if len({p["kind"] for p in staged}) == 1 else f"{kind}: {label}")
-        ax.set_xlabel("lightmap texels")
-        ax.set_ylabel("wall time per texel by stage, µs")
-        ax.set_title(f"{preset} preset, by stage", fontsize=9)
-        ax.grid(True, which="both", lw=0.3)
-        ax.legend(fontsize=7)
-        ax = axes[4]
-        for key, rays, label in (("shooting", "rowRays", "shooting rows"), ("finalGather", "gatherRays", "final gather")):
-            for kind in sorted({p["kind"] for p in staged}):
-                mine = [p for p in staged if p["kind"] == kind and p[rays]]
-                ax.semilogx([p["texels"] for p in mine], [1e9 * p["stages"][key] / p[rays] for p in mine], "-o",
-                            label=label if len({p["kind"] for p in staged}) == 1 else f"{kind}: {label}")
-                for p in mine:
-                    ax.annotate(f"{1e9 * p['stages'][key] / p[rays]:.0f}", (p["texels"], 1e9 * p["stages"][key] / p[rays]),
-                                fontsize=7, textcoords="offset points", xytext=(3, 3))
-        ax.set_xlabel("lightmap texels")
-        ax.set_ylabel("wall time per ray (2 cores), ns")
-        ax.set_ylim(bottom=0)
-        ax.set_title(f"{preset} preset, the cost of a ray", fontsize=9)
-        ax.grid(True, which="both", lw=0.3)
-        ax.legend(fontsize=7)
+                axes[3].loglog([p["texels"] for p in mine], [1e6 * p["stages"][key] / p["texels"] for p in mine], "-o",
+                               label=name(kind, label))
+        finish(axes[3], "wall time per texel by stage, µs", ", by stage")
+        for key, rays, label in RAY_STAGES:
+            for kind in kinds:
+                mine = [(p["texels"], ns_per_ray(p["stages"], p["row"], key, rays)) for p in staged if p["kind"] == kind]
+                mine = [(x, y) for x, y in mine if y is not None]
+                axes[4].semilogx([x for x, _ in mine], [y for _, y in mine], "-o", label=name(kind, label))
+                for x, y in mine:
+                    axes[4].annotate(f"{y:.0f}", (x, y), fontsize=7, textcoords="offset points", xytext=(3, 3))
+        axes[4].set_ylim(bottom=0)
+        finish(axes[4], "wall time per ray (2 cores), ns", ", the cost of a ray")
     for ax, (value, ylabel) in zip(axes, panels):
         for kind in sorted({p["kind"] for p in points}):
             mine = [p for p in points if p["kind"] == kind]
             ax.loglog([p["texels"] for p in mine], [value(p) for p in mine], "-s", label=kind)
             for p in mine:
                 ax.annotate(p["label"], (p["texels"], value(p)), fontsize=7, textcoords="offset points", xytext=(3, 3))
-        ax.set_xlabel("lightmap texels")
-        ax.set_ylabel(ylabel)
-        ax.set_title(f"{preset} preset (flat or falling = no worse than linear)", fontsize=9)
-        ax.grid(True, which="both", lw=0.3)
-        ax.legend(fontsize=7)
+        finish(ax, ylabel, " (flat or falling = no worse than linear)")
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     return True
@@ -423,8 +423,8 @@ def write_docs(results, docs, png, scaling_png=None, speed_only=False):
             trade += ["", f"The path tracer {how} the medium preset's per-texel error in {t_pt:.0f} s: "
                           f"**{ratio:.1f}×** the bake's time (issue 16 asks ≥ 10× on the clean ~10k level)."]
         trade.append("")
-    staged = [(level, r, row_stages(r)) for level in results.values() for r in level["rows"].values()
-              if r["method"] == "bake" and row_stages(r) and (r.get("texels") or level.get("texels"))]
+    staged = [(level, r, st) for level in results.values() for r in level["rows"].values() if r["method"] == "bake"
+              and (r.get("texels") or level.get("texels")) and (st := row_stages(r))]
     if staged:
         perf += ["", "Where the time per texel goes: each stage's wall time per texel (µs), and the two stages that trace "
                      "rays through the whole level, per ray traced (wall ns on 2 cores; the same rays per texel at "
@@ -433,9 +433,9 @@ def write_docs(results, docs, png, scaling_png=None, speed_only=False):
                  "|---|---|" + "---|" * len(STAGES) + "---|---|"]
         for level, r, st in sorted(staged, key=lambda x: (x[0]["level"], x[1]["setting"])):
             texels = r.get("texels") or level.get("texels")
-            per_ray = lambda key, rays: f"{1e9 * st[key] / rays:.0f}" if rays else "—"
+            per_ray = [ns_per_ray(st, r, key, rays) for key, rays, _ in RAY_STAGES]
             perf.append(f"| {level['level']} | {r['setting']} | " + " | ".join(f"{1e6 * st[key] / texels:.0f}" for key, _ in STAGES) +
-                        f" | {per_ray('shooting', r.get('rowRaysTraced'))} | {per_ray('finalGather', r.get('gatherRays'))} |")
+                        "".join(" | —" if v is None else f" | {v:.0f}" for v in per_ray) + " |")
     replace_section(os.path.join(docs, "performance.md"), "\n".join(perf))
     if not speed_only:
         replace_section(os.path.join(docs, "tradeoff.md"), "\n".join(trade))
