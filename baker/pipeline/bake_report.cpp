@@ -197,11 +197,13 @@ bool transparentHugePagesAvailable() {
 bool heapInHugePages() {
     const char* tunables = std::getenv("GLIBC_TUNABLES");
     if (tunables == nullptr) return false;
-    bool on = false;
+    bool on = false, oneArena = false;
     std::istringstream list(tunables);
-    for (std::string item; std::getline(list, item, ':');)
-        if (item.rfind("glibc.malloc.hugetlb=", 0) == 0) on = item == "glibc.malloc.hugetlb=1";  // the last one counts
-    return on && transparentHugePagesAvailable();
+    for (std::string item; std::getline(list, item, ':');) {  // the last setting of each counts
+        if (item.rfind("glibc.malloc.hugetlb=", 0) == 0) on = item == "glibc.malloc.hugetlb=1";
+        if (item.rfind("glibc.malloc.arena_max=", 0) == 0) oneArena = item == "glibc.malloc.arena_max=1";
+    }
+    return on && oneArena && transparentHugePagesAvailable();
 }
 
 double peakResidentMemoryMiB() {

@@ -77,7 +77,7 @@ struct BakeReport {
     std::vector<StageTiming> timings;
     double totalSeconds = 0.0;              // wall time of the whole bake
     double peakMemoryMiB = 0.0;
-    bool hugePageHeap = false;              // glibc backs the heap with transparent huge pages (heapInHugePages)
+    bool hugePageHeap = false;              // glibc backs the whole heap with transparent huge pages (heapInHugePages)
     std::size_t patches = 0, elements = 0, triangles = 0;
     std::vector<std::string> warnings;
     SolveReport solve;
@@ -100,9 +100,9 @@ double peakResidentMemoryMiB();
 // Whether the kernel gives transparent huge pages to a program that asks (/sys/kernel/mm/transparent_hugepage/enabled
 // is "always" or "madvise"; false if unreadable). Thread-safe; never throws.
 bool transparentHugePagesAvailable();
-// Whether this process's glibc was started with its heap in transparent huge pages: GLIBC_TUNABLES holds
-// glibc.malloc.hugetlb=1 (the CLI restarts itself with it, cli/huge_page_heap.h), and
-// transparentHugePagesAvailable(). Thread-safe; never throws.
+// Whether this process's glibc was started with its whole heap in transparent huge pages: GLIBC_TUNABLES holds
+// glibc.malloc.hugetlb=1 and glibc.malloc.arena_max=1 (one arena, the main heap, which alone glibc madvises; the CLI
+// restarts itself with both, cli/huge_page_heap.h), and transparentHugePagesAvailable(). Thread-safe; never throws.
 bool heapInHugePages();
 
 }  // namespace hemibake
