@@ -130,9 +130,9 @@ TEST(CliBake, EmitterLimitIsAKnob) {
                            "--max-ray-traced-emitters", "-1"}).exitCode, 2);
 }
 
-// The CLI restarts itself with glibc's heap in transparent huge pages (cli/huge_page_heap.h); bake.json says whether
-// it runs so. A GLIBC_TUNABLES that names the tunable is the user's choice and kept (=0 turns it off); other tunables
-// stay beside it. The light baked is the same texel for texel either way.
+// The CLI restarts itself with glibc's heap in transparent huge pages and one arena (cli/huge_page_heap.h); bake.json
+// says whether it runs so. A GLIBC_TUNABLES that names either tunable is the user's choice and kept (hugetlb=0 turns it
+// off); other tunables stay beside them. The light baked is the same texel for texel every way.
 TEST(CliBake, HeapInHugePagesUnlessTheUserSaysOtherwise) {
     std::string thp;
     std::getline(std::ifstream("/sys/kernel/mm/transparent_hugepage/enabled"), thp);
