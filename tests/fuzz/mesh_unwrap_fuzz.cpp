@@ -133,7 +133,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         for (std::uint32_t k : pm.elements.triangles[e]) check(k < pm.elements.vertices.size());
     }
     const double area = scene.surfaceAreaM2();
-    // Bisection and cuts keep the surface to rounding; mending T-junctions (mesh/subdivision.cpp, conformBoundaries)
+    // Pieces inside a closed solid are dropped (mesh/solid_cuts.h) and counted: what is baked plus what was dropped
+    // is the input's surface. Bisection and cuts keep the surface to rounding; mending T-junctions (mesh/subdivision.cpp, conformBoundaries)
     // splits a boundary edge at a vertex up to its tolerance (1e-7 of the diagonal) off the edge, which moves each
     // face by at most half its edge times that: nothing on a room, a few % of a scene made only of slivers that thin.
     double perimeterM = 0.0;
@@ -141,7 +142,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         for (auto h : instance.mesh.halfedges())
             if (!instance.mesh.is_boundary(h)) perimeterM += instance.mesh.calc_edge_length(h);
     const double conformSlackM2 = 0.5 * 1e-7 * diagonal * perimeterM;  // front elements only, as elementArea
-    check(std::abs(elementArea - area) <= 1e-6 * area + conformSlackM2);
+    const double droppedM2 = pm.solidCuts.areaDroppedM2;
+    check(std::isfinite(droppedM2) && droppedM2 >= 0.0 && droppedM2 <= area * (1.0 + 1e-6));
+    check(std::abs(elementArea + droppedM2 - area) <= 1e-6 * area + conformSlackM2);
     for (std::size_t p = 0; p < pm.patches.size(); ++p) {
         const std::uint32_t first = pm.patches.firstElement[p], count = pm.patches.elementCount[p];
         check(count > 0 && std::size_t(first) + count <= pm.elements.size());
