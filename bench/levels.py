@@ -187,6 +187,7 @@ def bake_rows(a, level, name, gltf, density, reference, save):
                "gatherDrawnFraction": draws.get("finalGather", {}).get("meanFractionOfScene"),
                "gatherRays": report.get("lightmap", {}).get("finalGatherRays", {}).get("traced"),
                "gatherRaysPerTexel": report.get("lightmap", {}).get("finalGatherRays", {}).get("perTexel"),
+               "gatherRaysEscaped": report.get("lightmap", {}).get("finalGatherRays", {}).get("escaped"),
                "timings": report.get("timings"), "outDir": out_dir,
                "texels": report.get("lightmap", {}).get("texels"),
                "rowRaysTraced": report.get("convergence", {}).get("rowRaysTraced"),

@@ -786,7 +786,7 @@ def quat_from_to(a, b):
     return [q[0] / n, q[1] / n, q[2] / n, q[3] / n]
 
 
-def write_gltf(path, nodes, meshes, extent, seed, clean=False, tiles=1):
+def write_gltf(path, nodes, meshes, extent, seed, clean=False, tiles=1, tile_gap=TILE_GAP):
     binary = bytearray()
     buffer_views, accessors, gltf_meshes = [], [], []
 
@@ -827,7 +827,7 @@ def write_gltf(path, nodes, meshes, extent, seed, clean=False, tiles=1):
     xmin, xmax, zmin, zmax, corridor_z = extent
     sun_dir = (0.35, -0.8, 0.48)
     if tiles > 1:
-        # Copies of the level's nodes under one node per tile (rows of ceil(sqrt(tiles)), TILE_GAP apart), sharing
+        # Copies of the level's nodes under one node per tile (rows of ceil(sqrt(tiles)), tile_gap apart), sharing
         # their meshes: more level with exactly the same content per square metre.
         per_row = math.ceil(math.sqrt(tiles))
         all_nodes, roots = [], []
@@ -835,8 +835,8 @@ def write_gltf(path, nodes, meshes, extent, seed, clean=False, tiles=1):
             first = len(all_nodes)
             all_nodes += [dict(n, name="%s_t%d" % (n["name"], t)) for n in nodes]
             all_nodes.append({"name": "tile_%d" % t, "children": list(range(first, first + len(nodes))),
-                              "translation": [(t % per_row) * (xmax - xmin + TILE_GAP), 0.0,
-                                              (t // per_row) * (zmax - zmin + TILE_GAP)]})
+                              "translation": [(t % per_row) * (xmax - xmin + tile_gap), 0.0,
+                                              (t // per_row) * (zmax - zmin + tile_gap)]})
             roots.append(len(all_nodes) - 1)
     else:
         all_nodes = list(nodes)
@@ -887,17 +887,23 @@ def main():
                     help="that many copies of the level side by side, 10 m apart (rows of ceil(sqrt(N))), sharing "
                          "their meshes: a bigger level with exactly the same content per square metre, to measure "
                          "how a baker's cost grows with the level's size alone")
+    ap.add_argument("--tile-gap", type=float, default=TILE_GAP,
+                    help="metres between copies (--tiles), 10 by default; copies a kilometre apart barely light or "
+                         "shade each other (hemibake's lengths scaled by the scene diagonal do not bake them right "
+                         "yet: README, known limitation)")
     args = ap.parse_args()
     if args.tiles < 1:
         ap.error("--tiles must be at least 1")
+    if not (args.tile_gap >= 0.0 and math.isfinite(args.tile_gap)):
+        ap.error("--tile-gap must be a finite number of metres, at least 0")
     if not args.clean:
         nodes, meshes, extent, triangles = generate(args.seed, args.triangles, args.uniform)
-        write_gltf(args.output, nodes, meshes, extent, args.seed, tiles=args.tiles)
+        write_gltf(args.output, nodes, meshes, extent, args.seed, tiles=args.tiles, tile_gap=args.tile_gap)
         print("%s: %d triangles, %d nodes, %.1f x %.1f m%s" % (args.output, triangles * args.tiles, len(nodes), extent[1] - extent[0],
                                                         extent[3] - extent[2], " a tile, %d tiles" % args.tiles if args.tiles > 1 else ""))
         return
     nodes, meshes, extent, triangles, stats = generate_clean(args.seed, args.triangles, args.uniform)
-    write_gltf(args.output, nodes, meshes, extent, args.seed, clean=True, tiles=args.tiles)
+    write_gltf(args.output, nodes, meshes, extent, args.seed, clean=True, tiles=args.tiles, tile_gap=args.tile_gap)
     pts = [p for _, mb in meshes for pos, _, _ in mb.groups.values() for p in pos]
     lo, hi = [min(p[k] for p in pts) for k in range(3)], [max(p[k] for p in pts) for k in range(3)]
     print("%s: %d triangles, %d nodes, bounds (%.2f %.2f %.2f)-(%.2f %.2f %.2f) m%s" % (

@@ -51,8 +51,9 @@ public:
     // E/π at every point, in parallel over every core. A point's rays depend only on (`sweep`, its key): keys[k] for
     // point k (e.g. its texel index: a texel gets the same rays whatever else is gathered with it), or k when `keys`
     // is empty. `backfaceFraction`, if given, receives each point's share of rays that met the back of a single-sided
-    // surface. Throws std::invalid_argument if keys are given but not one per point.
-    void gather(const std::vector<GatherPoint>& points, glm::vec3 skyRadiance, std::uint64_t sweep,
+    // surface. Returns how many rays escaped (met no surface and saw the sky): what a level's openings let out, and
+    // cheaper to trace than rays that hit. Throws std::invalid_argument if keys are given but not one per point.
+    std::uint64_t gather(const std::vector<GatherPoint>& points, glm::vec3 skyRadiance, std::uint64_t sweep,
                 std::vector<glm::dvec3>& irradianceOverPi, std::vector<float>* backfaceFraction = nullptr,
                 std::span<const std::uint32_t> keys = {}) const;
 

@@ -72,7 +72,8 @@ nlohmann::json lightmapJson(const LightmapReport& lm) {
             {"renderedWhy", {{"lattice", st.renderedLattice},
                              {"unsupported", st.renderedUnsupported},
                              {"disagreeing", st.renderedDisagreeing}}},
-            {"finalGatherRays", {{"perTexel", st.gatherRaysPerTexel}, {"traced", st.gatherRaysTraced}}},
+            {"finalGatherRays",
+             {{"perTexel", st.gatherRaysPerTexel}, {"traced", st.gatherRaysTraced}, {"escaped", st.gatherRaysEscaped}}},
             {"interpolatedTexels", st.interpolated},
             {"seconds", {{"setup", st.seconds.setup},
                          {"direct", st.seconds.direct},
@@ -200,8 +201,10 @@ bool heapInHugePages() {
     bool on = false, oneArena = false;
     std::istringstream list(tunables);
     for (std::string item; std::getline(list, item, ':');) {  // the last setting of each counts
-        if (item.rfind("glibc.malloc.hugetlb=", 0) == 0) on = item == "glibc.malloc.hugetlb=1";
-        if (item.rfind("glibc.malloc.arena_max=", 0) == 0) oneArena = item == "glibc.malloc.arena_max=1";
+        const std::size_t eq = item.find('=');
+        const std::string name = item.substr(0, eq), value = eq == std::string::npos ? "" : item.substr(eq + 1);
+        if (name == kGlibcHugePageTunable) on = value == "1";
+        if (name == kGlibcArenaCountTunable) oneArena = value == "1";
     }
     return on && oneArena && transparentHugePagesAvailable();
 }

@@ -104,5 +104,8 @@ bool transparentHugePagesAvailable();
 // glibc.malloc.hugetlb=1 and glibc.malloc.arena_max=1 (one arena, the main heap, which alone glibc madvises; the CLI
 // restarts itself with both, cli/huge_page_heap.h), and transparentHugePagesAvailable(). Thread-safe; never throws.
 bool heapInHugePages();
+// The two glibc tunables heapInHugePages() reads and the CLI's restart sets, each to 1.
+inline constexpr const char* kGlibcHugePageTunable = "glibc.malloc.hugetlb";
+inline constexpr const char* kGlibcArenaCountTunable = "glibc.malloc.arena_max";
 
 }  // namespace hemibake

@@ -57,11 +57,12 @@ PatchMesh diskMesh(double radius, double height) {
 }
 
 glm::dvec3 gatherOne(RayGatherer& g, const glm::dvec3& p, const glm::vec3& n, std::uint64_t sweep, float* backface = nullptr,
-                     glm::vec3 sky = glm::vec3(0.0f)) {
+                     glm::vec3 sky = glm::vec3(0.0f), std::uint64_t* escaped = nullptr) {
     std::vector<glm::dvec3> out;
     std::vector<float> back;
-    g.gather({GatherPoint{p, n}}, sky, sweep, out, &back);
+    const std::uint64_t skies = g.gather({GatherPoint{p, n}}, sky, sweep, out, &back);
     if (backface) *backface = back[0];
+    if (escaped) *escaped = skies;
     return out[0];
 }
 
@@ -76,7 +77,8 @@ TEST(RayGatherer, RaysPerPointAreTheLargestSquareAtMostTheRequest) {
 }
 
 // GROUND_TRUTH §1(c): F = r²/(r² + h²), here of the 1,024-gon by Lambert's formula. Each gather lies within 5σ of
-// the stratification bound above, and the mean of 64 independent gathers within 5σ/8 (no bias).
+// the stratification bound above, and the mean of 64 independent gathers within 5σ/8 (no bias); the rays that
+// escape are exactly those that missed the disk.
 TEST(RayGatherer, PointToDiskIsLambertsFormFactorWithinTheStratificationBound) {
     for (const auto& [r, h] : {std::pair{1.0, 1.0}, std::pair{0.5, 1.0}, std::pair{0.25, 2.0}}) {
         SCOPED_TRACE("r=" + std::to_string(r) + " h=" + std::to_string(h));
@@ -90,10 +92,13 @@ TEST(RayGatherer, PointToDiskIsLambertsFormFactorWithinTheStratificationBound) {
         double sum = 0.0;
         for (int k = 0; k < kGathers; ++k) {
             float back = -1.0f;
-            const glm::dvec3 e = gatherOne(g, {0, 0, 0}, {0, 0, 1}, std::uint64_t(k), &back);
+            std::uint64_t escaped = 0;
+            const glm::dvec3 e = gatherOne(g, {0, 0, 0}, {0, 0, 1}, std::uint64_t(k), &back, glm::vec3(0.0f), &escaped);
             EXPECT_NEAR(e.x, exact, 5.0 * sigma);
             EXPECT_EQ(e.x, e.y);
             EXPECT_EQ(back, 0.0f);
+            // Radiance 1 on the disk, nothing elsewhere: every ray that missed it escaped, and E/π counts the rest.
+            EXPECT_EQ(double(kRays - escaped), e.x * kRays);
             sum += e.x;
         }
         EXPECT_NEAR(sum / kGathers, exact, 5.0 * sigma / std::sqrt(double(kGathers)));
@@ -126,7 +131,7 @@ TEST(RayGatherer, FurnaceSeesTheUniformRadianceFromEveryPoint) {
     }
     std::vector<glm::dvec3> out;
     std::vector<float> back;
-    g.gather(points, glm::vec3(1e6f), 1, out, &back);
+    EXPECT_EQ(g.gather(points, glm::vec3(1e6f), 1, out, &back), 0u);  // not one ray escapes
     for (std::size_t k = 0; k < points.size(); ++k) {
         SCOPED_TRACE(k);
         EXPECT_NEAR(out[k].x, radiance.x, 1e-12);

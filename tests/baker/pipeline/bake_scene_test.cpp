@@ -193,6 +193,7 @@ TEST(BakeScene, FinalGatherByRaysSeesWhatTheHemicubeSees) {
     const LightmapStats& st = rays.report.lightmap->stats;
     EXPECT_EQ(st.gatherRaysPerTexel, 4096);
     EXPECT_EQ(st.gatherRaysTraced, std::uint64_t(st.rendered) * 4096u);
+    EXPECT_EQ(st.gatherRaysEscaped, 0u);  // sealed rooms: no ray leaves them, though the sky is bright
     EXPECT_EQ(few.report.lightmap->stats.gatherRaysPerTexel, 256);
     EXPECT_EQ(cubes.report.lightmap->stats.gatherRaysTraced, 0u);
 
