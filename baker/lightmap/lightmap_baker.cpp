@@ -379,7 +379,8 @@ public:
     void gatherAt(const std::vector<GatherPoint>& points, const std::vector<std::uint32_t>& ids, std::uint64_t sweep,
                   std::vector<glm::dvec3>& out, std::vector<float>* backface, LightmapStats& stats) {
         if (rayGatherer_) {
-            stats.gatherRaysEscaped += rayGatherer_->gather(points, solve_.lighting.skyRadiance, sweep, out, backface, ids);
+            stats.gatherRaysEscaped +=
+                rayGatherer_->gather(points, solve_.lighting.skyRadiance, sweep, out, backface, ids);
             stats.gatherRaysPerTexel = rayGatherer_->raysPerPoint();
             stats.gatherRaysTraced += std::uint64_t(points.size()) * std::uint64_t(rayGatherer_->raysPerPoint());
         } else {

@@ -51,11 +51,11 @@ public:
     // E/π at every point, in parallel over every core. A point's rays depend only on (`sweep`, its key): keys[k] for
     // point k (e.g. its texel index: a texel gets the same rays whatever else is gathered with it), or k when `keys`
     // is empty. `backfaceFraction`, if given, receives each point's share of rays that met the back of a single-sided
-    // surface. Returns how many rays escaped (met no surface and saw the sky): what a level's openings let out, and
-    // cheaper to trace than rays that hit. Throws std::invalid_argument if keys are given but not one per point.
+    // surface. Returns how many rays escaped (met no surface and saw the sky): what a level's openings let out.
+    // Throws std::invalid_argument if keys are given but not one per point.
     std::uint64_t gather(const std::vector<GatherPoint>& points, glm::vec3 skyRadiance, std::uint64_t sweep,
-                std::vector<glm::dvec3>& irradianceOverPi, std::vector<float>* backfaceFraction = nullptr,
-                std::span<const std::uint32_t> keys = {}) const;
+                         std::vector<glm::dvec3>& irradianceOverPi, std::vector<float>* backfaceFraction = nullptr,
+                         std::span<const std::uint32_t> keys = {}) const;
 
     int raysPerPoint() const { return strata_ * strata_; }
 

@@ -134,9 +134,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     }
     const double area = scene.surfaceAreaM2();
     // Pieces inside a closed solid are dropped (mesh/solid_cuts.h) and counted: what is baked plus what was dropped
-    // is the input's surface. Bisection and cuts keep the surface to rounding; mending T-junctions (mesh/subdivision.cpp, conformBoundaries)
-    // splits a boundary edge at a vertex up to its tolerance (1e-7 of the diagonal) off the edge, which moves each
-    // face by at most half its edge times that: nothing on a room, a few % of a scene made only of slivers that thin.
+    // is the input's surface. Bisection and cuts keep the surface to rounding; mending T-junctions
+    // (mesh/subdivision.cpp, conformBoundaries) splits a boundary edge at a vertex up to its tolerance (1e-7 of the
+    // diagonal) off the edge, which moves each face by at most half its edge times that: nothing on a room, a few %
+    // of a scene made only of slivers that thin.
     double perimeterM = 0.0;
     for (const hemibake::MeshInstance& instance : scene.instances)
         for (auto h : instance.mesh.halfedges())
