@@ -25,12 +25,10 @@
 
 #include <algorithm>
 #include <atomic>
-#include <cstdlib>
 #include <limits>
 #include <map>
 #include <memory>
 #include <random>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -39,22 +37,13 @@
 #include "baker/rays/embree_scene.h"
 #include "baker/solve/room_scale.h"
 #include "baker/solve/separate_sides.h"
+#include "bench/bench_levels.h"
 #include "mesh/frame_math.h"
 #include "mesh/gltf_loader.h"
 #include "mesh/z_curve.h"
 
 namespace hemibake {
 namespace {
-
-std::vector<std::string> tiledLevels() {
-    std::vector<std::string> files;
-    const char* list = std::getenv("HEMIBAKE_BENCH_TILED");
-    if (list == nullptr) return files;
-    std::stringstream in(list);
-    for (std::string file; std::getline(in, file, ',');)
-        if (!file.empty()) files.push_back(file);
-    return files;
-}
 
 // A level subdivided as the medium preset's solve does it (room-scale refinement, sides kept apart), with the sizes
 // of a level past 28 m of diagonal for every file, so tile 0 becomes the same elements in all of them.
@@ -71,7 +60,7 @@ const Level& level(std::size_t index) {
     auto& slot = cache[index];
     if (!slot) {
         slot = std::make_unique<Level>();
-        slot->scene = loadGltf(tiledLevels().at(index));
+        slot->scene = loadGltf(benchTiledLevels().at(index));
         slot->inputRays = std::make_unique<EmbreeScene>(slot->scene);
         const SolveSettings settings = presetSettings("medium", 100.0).solve;
         const RefinementRequest request = findRoomScaleRegions(slot->scene, *slot->inputRays, settings);
@@ -134,7 +123,7 @@ std::vector<glm::dvec3> cosineDirections(const glm::dvec3& n, int rays, std::uin
 
 // Args: level index (into HEMIBAKE_BENCH_TILED), rays per origin, threads, spread (see the top).
 void BM_ElementRaysAgainstLevelSize(benchmark::State& state) {
-    const std::vector<std::string> files = tiledLevels();
+    const std::vector<std::string> files = benchTiledLevels();
     const auto index = std::size_t(state.range(0));
     if (files.empty()) {
         state.SkipWithError("HEMIBAKE_BENCH_TILED is not set (comma-separated tiled levels, the single tile first)");

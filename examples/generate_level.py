@@ -888,9 +888,10 @@ def main():
                          "their meshes: a bigger level with exactly the same content per square metre, to measure "
                          "how a baker's cost grows with the level's size alone")
     ap.add_argument("--tile-gap", type=float, default=TILE_GAP,
-                    help="metres between copies (--tiles), 10 by default; copies a kilometre apart barely light or "
-                         "shade each other (hemibake's lengths scaled by the scene diagonal do not bake them right "
-                         "yet: README, known limitation)")
+                    help="metres between copies (--tiles), 10 by default; copies a kilometre apart do not light or "
+                         "shade each other, and each is an island of its own with its own ray epsilon and offsets "
+                         "(README, parts kilometres apart; give hemibake --patch-size and --element-size, the "
+                         "presets size patches from the whole diagonal)")
     args = ap.parse_args()
     if args.tiles < 1:
         ap.error("--tiles must be at least 1")

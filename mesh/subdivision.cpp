@@ -13,6 +13,7 @@
 
 #include "mesh/cell_key.h"
 #include "mesh/errors.h"
+#include "mesh/islands.h"
 #include "mesh/solid_cuts.h"
 #include "mesh/union_find.h"
 #include "mesh/surface_mesh.h"
@@ -295,8 +296,10 @@ PatchMesh subdivide(const Scene& scene, const SubdivisionSettings& settings, con
     ElementArrays& el = out.elements;
     PatchArrays& pa = out.patches;
 
-    // Tolerance: well above float rounding of glTF input coordinates, well below any modelled gap (1 mm walls).
-    const double tolM = 1e-7 * std::max(out.sceneDiagonalM, 1e-12);
+    // Tolerance: well above float rounding of glTF input coordinates, well below any modelled gap (1 mm walls). Of the
+    // largest island, not the scene (mesh/islands.h): parts a kilometre apart are never within it of each other, and
+    // the coordinates are doubles here, so no float step bounds it from below.
+    const double tolM = std::max(SceneIslands::ofScene(scene).largestLengthM(1e-7, 0.0), 1e-7 * 1e-12);
     std::optional<SolidSet> solids;
     if (settings.cutAlongSolids) solids.emplace(scene, tolM);
     std::vector<RefinedInstance> refined(scene.instances.size());

@@ -1,5 +1,7 @@
 #include "mesh/texels.h"
+
 #include "mesh/frame_math.h"
+#include "mesh/islands.h"
 
 #include <algorithm>
 #include <cmath>
@@ -58,7 +60,13 @@ std::vector<AtlasTexels> computeTexels(const Scene& scene, const UvAtlas& atlas,
     for (std::size_t c = 0; c < atlas.charts.size(); ++c)
         chartsOfAtlas[std::size_t(atlas.charts[c].atlas)].push_back(std::uint32_t(c));
 
-    const double sceneSizeM = std::max(scene.bounds().diagonal(), 1e-300);
+    // Per island: copies of a room a kilometre apart keep the room's offset (mesh/islands.h).
+    const SceneIslands islands = SceneIslands::ofScene(scene);
+    std::vector<double> offsetOfIsland(std::max<std::size_t>(islands.size(), 1));
+    for (std::size_t k = 0; k < islands.size(); ++k)  // a relative offset of 0 asks for none at all
+        offsetOfIsland[k] = settings.normalOffsetRelative > 0.0
+                                ? islands.lengthM(k, settings.normalOffsetRelative, settings.normalOffsetFloatSteps)
+                                : 0.0;
     std::vector<Sample> samples;
     std::vector<std::int32_t> local;
     for (std::size_t a = 0; a < atlas.atlases.size(); ++a) {
@@ -149,7 +157,7 @@ std::vector<AtlasTexels> computeTexels(const Scene& scene, const UvAtlas& atlas,
 
             at.x.push_back(std::uint16_t(s.texel % std::uint64_t(S)));
             at.y.push_back(std::uint16_t(s.texel / std::uint64_t(S)));
-            at.position.push_back(pos + nrm * (settings.normalOffsetRelative * sceneSizeM));
+            at.position.push_back(pos + nrm * offsetOfIsland[islands.islandOfPart(std::size_t(s.instance))]);
             at.normal.push_back(glm::vec3(nrm));
             at.instance.push_back(s.instance);
             at.face.push_back(ui.faceSource[s.triangle]);

@@ -12,8 +12,10 @@
 // (the side counter-clockwise winding faces).
 //
 // The position is then nudged off the surface along that normal by
-//     offset = normalOffsetRelative × the scene's bounding-box diagonal   metres
-// (default 1e-5: 10 µm for a 1 m scene, 1 mm for a 100 m level). Relative to the scene's size, never to the
+//     offset = normalOffsetRelative × the bounding-box diagonal of the texel's island   metres
+// (default 1e-5: 10 µm for a 1 m scene, 1 mm for a 100 m level; an island is the scene unless its parts lie far
+// apart, mesh/islands.h), but at least normalOffsetFloatSteps float steps at the island's farthest coordinate from
+// the scene's centre (binds only for an island far from it: 0.9 mm at 1.8 km). Relative to sizes, never to the
 // distance from the origin: the ray tracer and the rasterizer work relative to the scene's centre, so a level 1e6 m
 // out needs no larger offset, and an offset of 1e-5 × |position| pushed its samples metres off their surfaces
 // (and a 0.5 mm scene's by 2 % of its size). Moving samples out of nearby intersecting geometry is the baker's job.
@@ -27,7 +29,8 @@
 namespace hemibake {
 
 struct TexelSettings {
-    double normalOffsetRelative = 1e-5;  // × the scene diagonal
+    double normalOffsetRelative = 1e-5;  // × the diagonal of the texel's island (mesh/islands.h); 0: no nudge
+    double normalOffsetFloatSteps = 4.0;   // at least this many float steps at the island's farthest coordinate
     double coverageShrinkTexels = kCoverageShrinkTexels;
     double borderInsetTexels = 0.25;  // texels whose centre is outside the chart sample this far inside it
 };

@@ -5,6 +5,8 @@
 #include <array>
 #include <map>
 
+#include "mesh/islands.h"
+
 namespace hemibake {
 
 namespace {
@@ -40,10 +42,10 @@ glm::vec3 lookup(const LightmapImage& image, const std::size_t (&texels)[4], con
 std::vector<SeamSample> findSeamSamples(const Scene& scene, const UvAtlas& atlas, const std::vector<LightmapImage>& images,
                                         std::size_t& seamEdges) {
     std::vector<SeamSample> samples;
-    // Relative to the scene: an absolute floor would weld distinct vertices of a millimetre-sized scene. Once, not
-    // per instance: the bounds visit every vertex of the scene (a level's 242 instances took 4.3 s here).
-    const double diagonalM = scene.bounds().diagonal();
-    const double quantum = diagonalM > 0.0 ? 1e-7 * diagonalM : 1e-7;
+    // Relative to the instance's island (mesh/islands.h): an absolute floor would weld distinct vertices of a
+    // millimetre-sized scene, and the whole scene's diagonal those of copies of a room a kilometre apart. Islands once,
+    // not per instance: their bounds visit every vertex of the scene (a level's 242 instances took 4.3 s here).
+    const SceneIslands islands = SceneIslands::ofScene(scene);
     for (std::size_t i = 0; i < atlas.instances.size(); ++i) {
         const UnwrappedInstance& u = atlas.instances[i];
         if (u.atlas < 0) continue;
@@ -51,6 +53,8 @@ std::vector<SeamSample> findSeamSamples(const Scene& scene, const UvAtlas& atlas
         // Mesh edge → the UVs of its ends as each unwrapped triangle sees them. Ends are keyed by quantised
         // position, not vertex index: non-indexed glTF gives every triangle its own vertices.
         const SurfaceMesh& mesh = scene.instances[i].mesh;
+        const double diagonalM = islands.bounds(islands.islandOfPart(i)).diagonal();
+        const double quantum = diagonalM > 0.0 ? 1e-7 * diagonalM : 1e-7;
         std::map<std::array<std::int64_t, 3>, std::int32_t> positionId;
         auto idOf = [&](std::int32_t v) {
             const auto p = mesh.point(SurfaceMesh::VertexHandle(v));

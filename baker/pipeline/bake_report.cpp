@@ -112,7 +112,7 @@ nlohmann::json BakeReport::toJson() const {
     j["timings"]["total"] = totalSeconds;
     j["peakMemoryMiB"] = peakMemoryMiB;
     j["hugePageHeap"] = hugePageHeap;
-    j["counts"] = {{"triangles", triangles}, {"patches", patches}, {"elements", elements}};
+    j["counts"] = {{"triangles", triangles}, {"patches", patches}, {"elements", elements}, {"islands", islands}};
     j["warnings"] = warnings;
     j["convergence"] = convergenceJson(solve);
     j["power"] = {{"emittedW", vec(solve.emitterPowerW)},

@@ -79,6 +79,7 @@ struct BakeReport {
     double peakMemoryMiB = 0.0;
     bool hugePageHeap = false;              // glibc backs the whole heap with transparent huge pages (heapInHugePages)
     std::size_t patches = 0, elements = 0, triangles = 0;
+    std::size_t islands = 0;  // groups of parts far apart, each with lengths of its own size (mesh/islands.h)
     std::vector<std::string> warnings;
     SolveReport solve;
     SolidCutStats solidCuts;  // faces cut along solids before subdivision (mesh/solid_cuts.h)

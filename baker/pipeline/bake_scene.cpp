@@ -55,6 +55,7 @@ public:
         const std::vector<glm::dvec3> positions = probePositions(s.probes, scene_);  // a bad file fails before the solve
         update("preparing");
         const EmbreeScene rays(scene_);
+        result_.report.islands = rays.islands().size();
         stage("setup");
         solve(rays);
         probes(positions);

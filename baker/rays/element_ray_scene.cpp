@@ -162,9 +162,38 @@ struct ElementRayScene::Embree {
     }
 };
 
+namespace {
+
+// The elements grouped into islands by instance (mesh/islands.h), floats taken from the elements' centre as the BVH
+// takes them.
+SceneIslands elementIslands(const ElementArrays& el) {
+    std::vector<Bounds> parts;
+    for (std::size_t e = 0; e < el.size(); ++e) {
+        const std::size_t i = el.instance[e];
+        if (i >= parts.size()) parts.resize(i + 1);
+        for (std::uint32_t v : el.triangles[e]) parts[i].extend(el.vertices[v]);
+    }
+    const Bounds all = elementBounds(el);
+    return SceneIslands(parts, all.empty() ? glm::dvec3(0.0) : all.centre());
+}
+
+// The ray offset of each island. One island keeps the elements' whole diagonal, as before islands (their vertex bounds,
+// unused vertices included, which an island's triangles may not reach).
+std::vector<double> rayOffsets(const SceneIslands& islands, double elementDiagonalM) {
+    if (islands.size() <= 1) return {std::max(EmbreeScene::kRayEpsilonRelative * elementDiagonalM, 1e-9)};
+    std::vector<double> offsets(islands.size());
+    for (std::size_t k = 0; k < islands.size(); ++k)
+        offsets[k] = std::max(islands.lengthM(k, EmbreeScene::kRayEpsilonRelative, EmbreeScene::kRayEpsilonFloatSteps), 1e-9);
+    return offsets;
+}
+
+double largest(const std::vector<double>& values) { return *std::max_element(values.begin(), values.end()); }
+
+}  // namespace
+
 ElementRayScene::ElementRayScene(const PatchMesh& mesh)
-    : mesh_(mesh), embree_(std::make_unique<Embree>(mesh)),
-      rayOffsetM_(std::max(EmbreeScene::kRayEpsilonRelative * embree_->diagonal, 1e-9)),
+    : mesh_(mesh), embree_(std::make_unique<Embree>(mesh)), islands_(elementIslands(mesh.elements)),
+      islandOffsetM_(rayOffsets(islands_, embree_->diagonal)), rayOffsetM_(largest(islandOffsetM_)),
       twins_(std::size_t(std::count(embree_->hasTwin.begin(), embree_->hasTwin.end(), 1))) {}
 
 // Each face of the input holds the elements subdivided from it, per side (0: the face's own winding, 1: the back copy
@@ -368,7 +397,8 @@ double elementDiagonalM(const PatchMesh& mesh) {
 }  // namespace
 
 ElementRayScene::ElementRayScene(const PatchMesh& mesh, const EmbreeScene& input)
-    : mesh_(mesh), rayOffsetM_(std::max(EmbreeScene::kRayEpsilonRelative * elementDiagonalM(mesh), 1e-9)) {
+    : mesh_(mesh), islands_(elementIslands(mesh.elements)), islandOffsetM_(rayOffsets(islands_, elementDiagonalM(mesh))),
+      rayOffsetM_(largest(islandOffsetM_)) {
     const std::vector<std::uint8_t> twins = elementsWithTwins(mesh.elements);
     twins_ = std::size_t(std::count(twins.begin(), twins.end(), 1));
     faces_ = std::make_unique<Faces>(mesh, input, rayOffsetM_);

@@ -14,9 +14,11 @@
 #include <cstdint>
 #include <memory>
 #include <span>
+#include <vector>
 
 #include <glm/glm.hpp>
 
+#include "mesh/islands.h"
 #include "mesh/patches.h"
 
 namespace hemibake {
@@ -51,10 +53,13 @@ public:
     // std::invalid_argument unless `origins` and `hits` are as long as `dirs`.
     void trace(std::span<const glm::dvec3> origins, std::span<const glm::dvec3> dirs, std::span<ElementHit> hits) const;
     // A ray origin above surface point p along unit normal n: far enough that float error cannot put it back
-    // under the surface at any angle (EmbreeScene::kRayEpsilonRelative of the elements' diagonal), so nothing
-    // nearer than that is skipped.
-    glm::dvec3 lift(const glm::dvec3& p, const glm::dvec3& n) const { return p + rayOffsetM_ * n; }
-    double rayOffsetM() const { return rayOffsetM_; }
+    // under the surface at any angle (EmbreeScene::kRayEpsilonRelative of the diagonal of the elements' island at p,
+    // at least kRayEpsilonFloatSteps float steps there: mesh/islands.h), so nothing nearer than that is skipped.
+    glm::dvec3 lift(const glm::dvec3& p, const glm::dvec3& n) const { return p + rayOffsetAtM(p) * n; }
+    double rayOffsetAtM(const glm::dvec3& p) const {
+        return islandOffsetM_.size() == 1 ? islandOffsetM_[0] : islandOffsetM_[islands_.islandAt(p)];
+    }
+    double rayOffsetM() const { return rayOffsetM_; }  // the largest of any island
     std::size_t twinElements() const { return twins_; }  // elements with a coincident opposite copy
 
 private:
@@ -67,6 +72,8 @@ private:
     const PatchMesh& mesh_;
     std::unique_ptr<Embree> embree_;  // the elements' BVH, or
     std::unique_ptr<Faces> faces_;    // the input's faces and the elements in each
+    SceneIslands islands_;               // of the elements, grouped by instance
+    std::vector<double> islandOffsetM_;  // per island (one entry with one island)
     double rayOffsetM_ = 0.0;
     std::size_t twins_ = 0;
 };

@@ -51,10 +51,13 @@ const char* embreeErrorName(RTCError error) {
 void EmbreeScene::DeviceDeleter::operator()(RTCDeviceTy* device) const { rtcReleaseDevice(device); }
 void EmbreeScene::SceneDeleter::operator()(RTCSceneTy* scene) const { rtcReleaseScene(scene); }
 
-EmbreeScene::EmbreeScene(const Scene& scene) : scene_(&scene) {
+EmbreeScene::EmbreeScene(const Scene& scene) : scene_(&scene), islands_(SceneIslands::ofScene(scene)) {
     const Bounds bounds = scene.bounds();
     origin_ = bounds.empty() ? glm::dvec3(0.0) : bounds.centre();
-    rayEpsilonM_ = std::max(kRayEpsilonRelative * bounds.diagonal(), 1e-9);
+    islandEpsilonM_.assign(std::max<std::size_t>(islands_.size(), 1), 1e-9);
+    for (std::size_t k = 0; k < islands_.size(); ++k)
+        islandEpsilonM_[k] = std::max(islands_.lengthM(k, kRayEpsilonRelative, kRayEpsilonFloatSteps), 1e-9);
+    rayEpsilonM_ = *std::max_element(islandEpsilonM_.begin(), islandEpsilonM_.end());
 
     device_.reset(rtcNewDevice(nullptr));
     if (!device_) throw std::runtime_error(std::string("Embree: cannot create a device: ") + embreeErrorName(rtcGetDeviceError(nullptr)));
@@ -135,12 +138,13 @@ bool EmbreeScene::occluded(const glm::dvec3& from, const glm::dvec3& to, RayEnds
     const glm::dvec3 d = to - from;
     const double length = glm::length(d);
     if (ends == RayEnds::Lifted) return length > 0.0 && occludedRay(from, d / length, length, ends);
-    if (!(length > 2.0 * rayEpsilonM_)) return false;
-    return occludedRay(from, d / length, length - rayEpsilonM_, ends);
+    const double startM = rayEpsilonAtM(from), endM = rayEpsilonAtM(to);
+    if (!(length > startM + endM)) return false;
+    return occludedRay(from, d / length, length - endM, ends);
 }
 
 bool EmbreeScene::occludedRay(const glm::dvec3& origin, const glm::dvec3& dir, double tMaxM, RayEnds start) const {
-    const double tMin = start == RayEnds::Lifted ? 0.0 : rayEpsilonM_;
+    const double tMin = start == RayEnds::Lifted ? 0.0 : rayEpsilonAtM(origin);
     if (!(tMaxM > tMin)) return false;
     RTCRay ray = makeRay(origin, unitDirection(dir), tMin, tMaxM);
     RTCIntersectContext context;
@@ -151,7 +155,7 @@ bool EmbreeScene::occludedRay(const glm::dvec3& origin, const glm::dvec3& dir, d
 
 std::size_t EmbreeScene::countOccluded(const glm::dvec3& origin, std::span<const glm::dvec3> unitDirs, double tMaxM,
                                        RayEnds start) const {
-    const double tMin = start == RayEnds::Lifted ? 0.0 : rayEpsilonM_;
+    const double tMin = start == RayEnds::Lifted ? 0.0 : rayEpsilonAtM(origin);
     if (!(tMaxM > tMin)) return 0;
     constexpr std::size_t kPacket = 16;
     const glm::vec3 o(origin - origin_);
@@ -174,7 +178,7 @@ void EmbreeScene::intersectSides(const glm::dvec3& origin, std::span<const glm::
         throw std::invalid_argument("EmbreeScene::intersectSides: " + std::to_string(out.size()) + " results for " +
                                     std::to_string(unitDirs.size()) + " rays");
     std::fill(out.begin(), out.end(), HitSide{});
-    const double tMin = start == RayEnds::Lifted ? 0.0 : rayEpsilonM_;
+    const double tMin = start == RayEnds::Lifted ? 0.0 : rayEpsilonAtM(origin);
     if (!(tMaxM > tMin)) return;
     constexpr std::size_t kPacket = 16;
     const glm::vec3 o(origin - origin_);
@@ -215,7 +219,7 @@ FaceHit EmbreeScene::nearestFace(const glm::dvec3& origin, const glm::dvec3& uni
 }
 
 std::optional<Hit> EmbreeScene::intersect(const glm::dvec3& origin, const glm::dvec3& dir, double tMaxM, RayEnds start) const {
-    const double tMin = start == RayEnds::Lifted ? 0.0 : rayEpsilonM_;
+    const double tMin = start == RayEnds::Lifted ? 0.0 : rayEpsilonAtM(origin);
     if (!(tMaxM > tMin)) return std::nullopt;
     const glm::dvec3 unitDir = unitDirection(dir);
     const FaceHit nearest = nearestFace(origin, unitDir, tMin, tMaxM);

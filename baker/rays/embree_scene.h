@@ -7,17 +7,20 @@
 // take world-space doubles and are converted into that frame.
 //
 // Ray epsilon: Embree intersects in float, so a ray leaving a surface can re-hit it at a distance of a few float
-// ulps of the largest coordinate in the frame, i.e. proportional to the scene's size, not to the surface's.
-// rayEpsilonM() is that bound with a wide margin (kRayEpsilonRelative × scene diagonal, ≈ 60 ulps). Two ways to
-// use it, chosen per query by RayEnds:
-//  - OnSurface (default): the ray's ends may lie on surfaces; rayEpsilonM() is skipped along the ray at each end.
-//    Simple, but any surface closer than rayEpsilonM() to an end is missed (light leaks into concave corners and
-//    through walls thinner than that), and at a grazing angle θ the skipped piece is only rayEpsilonM()·sinθ away
+// ulps of the coordinates around it, i.e. proportional to their distance from the frame's centre, not to the
+// surface's size. rayEpsilonAtM(p) is that bound with a wide margin (kRayEpsilonRelative × the diagonal, ≈ 60 ulps at
+// half of it). Two ways to use it, chosen per query by RayEnds:
+//  - OnSurface (default): the ray's ends may lie on surfaces; the epsilon is skipped along the ray at each end.
+//    Simple, but any surface closer than the epsilon to an end is missed (light leaks into concave corners and
+//    through walls thinner than that), and at a grazing angle θ the skipped piece is only epsilon·sinθ away
 //    from the surface, where float error wins (measured in a furnace: 2e-4 to 4e-4 too dark 1 to 0.1 mm from a wall).
 //  - Lifted: the caller moved the ends off their surfaces with offsetFromSurface() (along the normal, to the side
 //    the ray travels), which no float error can undo at any angle; nothing is skipped, so nearby surfaces count.
 //    DirectLight and PathTracer use this for all their rays.
-// rayEpsilonM() is 4e-6 × the diagonal: 16 µm for a 2 × 2 × 3 m room, 0.7 mm for a 100 m cube of a level.
+// The epsilon is 4e-6 × the diagonal: 16 µm for a 2 × 2 × 3 m room, 0.7 mm for a 100 m cube of a level. The diagonal
+// is the island's the ray starts in (mesh/islands.h), not the scene's: copies of a room a kilometre apart keep the
+// room's epsilon, raised to 4 float steps at the island's distance from the scene's centre (0.7 mm at 1.5 km). A
+// scene of one island, which any level whose parts touch is, has the scene diagonal's epsilon everywhere.
 //
 // Thread safety: every const query may run concurrently (Embree's rtcIntersect1/rtcOccluded1/rtcOccluded16 are).
 #include <algorithm>
@@ -32,6 +35,7 @@
 #include <embree3/rtcore.h>
 #include <glm/glm.hpp>
 
+#include "mesh/islands.h"
 #include "mesh/scene.h"
 
 namespace hemibake {
@@ -145,14 +149,27 @@ public:
     const glm::dvec3& faceNormal(std::uint32_t instance, std::uint32_t face) const;
 
     // A ray end lifted off surface point p to the side `unitNormal` points to (for RayEnds::Lifted).
-    glm::dvec3 offsetFromSurface(const glm::dvec3& p, const glm::dvec3& unitNormal) const { return p + rayEpsilonM_ * unitNormal; }
+    glm::dvec3 offsetFromSurface(const glm::dvec3& p, const glm::dvec3& unitNormal) const {
+        return p + rayEpsilonAtM(p) * unitNormal;
+    }
 
+    // The ray epsilon at p: its island's (see the header comment). Thread-safe.
+    double rayEpsilonAtM(const glm::dvec3& p) const {
+        return islandEpsilonM_.size() == 1 ? islandEpsilonM_[0] : islandEpsilonM_[islands_.islandAt(p)];
+    }
+    // The largest ray epsilon of any island: the scene's, when it is one island.
     double rayEpsilonM() const { return rayEpsilonM_; }
+    const SceneIslands& islands() const { return islands_; }
     const glm::dvec3& origin() const { return origin_; }
     const Scene& scene() const { return *scene_; }
 
-    // See the header comment: ≈ 60 float ulps of a coordinate at half the scene diagonal.
+    // See the header comment: ≈ 60 float ulps of a coordinate at half the island's diagonal.
     static constexpr double kRayEpsilonRelative = 4e-6;
+    // The least epsilon, in float steps (floatStepM) at the island's farthest coordinate from the scene's centre:
+    // binds only for islands small against their distance from it (≤ 67 keeps a one-island scene's epsilon exactly
+    // relative). Two turned furnaces 3 km apart (RayGatherer test) re-hit their own walls at 0.1 step, not at 0.5;
+    // 4 leaves a margin of 8 where each extra step darkened small surfaces of a level 1.5 km out (16 steps: -5 % mean).
+    static constexpr double kRayEpsilonFloatSteps = 4.0;
 
 private:
     struct DeviceDeleter { void operator()(RTCDeviceTy* device) const; };
@@ -172,7 +189,9 @@ private:
     std::unique_ptr<RTCSceneTy, SceneDeleter> rtcScene_;
     std::vector<InstanceTriangles> triangles_;
     glm::dvec3 origin_{0.0};
-    double rayEpsilonM_ = 0.0;
+    SceneIslands islands_;
+    std::vector<double> islandEpsilonM_;  // per island (at least one entry)
+    double rayEpsilonM_ = 0.0;            // the largest of them
 };
 
 template <class OriginOf>

@@ -7,6 +7,7 @@
 #include <set>
 
 #include "mesh/gltf_loader.h"
+#include "mesh/islands.h"
 #include "mesh/scene_builder.h"
 #include "mesh/texels.h"
 
@@ -14,7 +15,12 @@ namespace hemibake {
 namespace {
 
 // The nudge off the surface: 1e-5 × the scene's diagonal, wherever the scene sits (mesh/texels.h).
-double nudgeFor(const Scene& scene, double relative = 1e-5) { return relative * scene.bounds().diagonal(); }
+// The nudge: 1e-5 of the diagonal of the texel's island (mesh/islands.h; the float floor is far below that in
+// these scenes, none far from its centre).
+double nudgeFor(const Scene& scene, std::size_t instance, double relative = 1e-5) {
+    const SceneIslands islands = SceneIslands::ofScene(scene);
+    return relative * islands.bounds(islands.islandOfPart(instance)).diagonal();
+}
 
 // Checks every texel of every atlas: row-major unique order, valid face, the un-nudged sample lies on its face,
 // the nudge is along the face normal, and the sample is the texel centre (inside) or a point on the boundary of
@@ -55,7 +61,7 @@ void expectConsistent(const Scene& scene, const UvAtlas& atlas, const std::vecto
             EXPECT_GE(std::min({b.x, b.y, b.z}), -1e-7);
             const glm::dvec3 onSurface = b.x * P[0] + b.y * P[1] + b.z * P[2];
             const glm::dvec3 offset = t.position[k] - onSurface;
-            EXPECT_NEAR(glm::dot(offset, n), nudgeFor(scene), 1e-9);
+            EXPECT_NEAR(glm::dot(offset, n), nudgeFor(scene, std::size_t(t.instance[k])), 1e-9);
             EXPECT_NEAR(glm::length(offset - glm::dot(offset, n) * n), 0.0, 1e-6);
             const glm::dvec2 sampleUv = b.x * UV[0] + b.y * UV[1] + b.z * UV[2];
             const glm::dvec2 centre(t.x[k] + 0.5, t.y[k] + 0.5);
@@ -94,7 +100,7 @@ TEST(MeshTexels, UnitQuadMatchesTheAnalyticGrid) {
         const double gi = p.x * 64.0 - 0.5, gj = p.y * 64.0 - 0.5;
         EXPECT_NEAR(gi, std::round(gi), 1e-4);
         EXPECT_NEAR(gj, std::round(gj), 1e-4);
-        EXPECT_NEAR(p.z, nudgeFor(scene), 1e-12);
+        EXPECT_NEAR(p.z, nudgeFor(scene, 0), 1e-12);
         grid.insert({int(std::lround(gi)), int(std::lround(gj))});
         byTexel[{t.x[k], t.y[k]}] = p;
     }

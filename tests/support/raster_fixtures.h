@@ -52,6 +52,11 @@ public:
         for (auto& t : triangles_)
             for (auto& p : t) p += offset;
     }
+    // Triangles first.. (all by default) mapped to rotation · p + offset.
+    void transform(const glm::dmat3& rotation, const glm::dvec3& offset, std::size_t first = 0) {
+        for (std::size_t k = first; k < triangles_.size(); ++k)
+            for (auto& p : triangles_[k]) p = rotation * p + offset;
+    }
     std::size_t size() const { return triangles_.size(); }
 
     // One element per triangle, each its own patch; vertices not shared (shared positions are bit-identical).

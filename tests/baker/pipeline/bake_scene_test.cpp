@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <string>
 
@@ -80,6 +81,44 @@ TEST_P(SealedRoom, StaysExactlyDark) {
 }
 
 INSTANTIATE_TEST_SUITE_P(EveryPreset, SealedRoom, ::testing::Values("draft", "medium", "high", "ultra"));
+
+// Two flat furnaces 3 km apart, each 1 m square and 1 cm tall (the gap between two parts), every face emitting L_e = 1
+// with ρ = 0.5: the radiance inside is exactly L_e / (1 − ρ) = 2 everywhere (GROUND_TRUTH §2), so is every texel's
+// E/π. Lengths sized by the whole 3 km scene (a 30 mm texel offset, a 12 mm ray epsilon) put texels and rays outside
+// their furnaces: mean E/π 0.004. Each furnace is an island of its own (mesh/islands.h) and keeps lengths of its own
+// size: mean 2.0022 and 2.0037, as one furnace baked alone (2.0023). Per texel, the 1 cm walls' sliver texels and the
+// floor's edges are up to 19 % off (17 % alone: the medium bake's own error at 3 cm texels), never black.
+TEST(BakeScene, FlatFurnacesKilometresApartBakeTheirExactRadiance) {
+    SceneBuilder b("flat furnaces");
+    const int wall = b.addMaterial(glm::vec3(0.5f), glm::vec3(1.0f));
+    b.addBox({0, 0, 0}, {1, 0.01, 1}, wall, true, "near furnace");
+    b.addBox({3000, 5, 0}, {3001, 5.01, 1}, wall, true, "far furnace");
+    const Scene scene = b.build();
+    BakeSettings settings = presetSettings("medium", scene.bounds().diagonal());
+    settings.solve.subdivision.patchSizeM = 0.25;  // the open world's sizes are not what this is about
+    settings.solve.subdivision.elementSizeM = 0.125;
+    settings.lightmap.texelsPerUnit = 32;
+    const BakeResult result = bakeScene(scene, settings, BakeOutput{});
+    EXPECT_EQ(result.report.islands, 2u);
+    for (const char* furnace : {"near furnace", "far furnace"}) {
+        SCOPED_TRACE(furnace);
+        std::size_t texels = 0;
+        double worst = 0.0, sum = 0.0;
+        for (std::size_t a = 0; a < result.texels.size(); ++a) {
+            const AtlasTexels& t = result.texels[a];
+            for (std::size_t i = 0; i < t.count(); ++i) {
+                if (scene.instances[std::size_t(t.instance[i])].source.nodeName.rfind(furnace, 0) != 0) continue;
+                const glm::vec3 v = result.lightmaps[a].irradianceOverPi[result.lightmaps[a].index(t.x[i], t.y[i])];
+                worst = std::max({worst, std::abs(v.x - 2.0), std::abs(v.y - 2.0), std::abs(v.z - 2.0)});
+                sum += v.y;
+                ++texels;
+            }
+        }
+        ASSERT_GT(texels, 2u * 32u * 32u);  // floor and ceiling at least
+        EXPECT_NEAR(sum / double(texels), 2.0, 0.005 * 2.0);
+        EXPECT_LT(worst, 0.25 * 2.0);
+    }
+}
 
 // Issue 15: presets size patches from the scene's diagonal only up to a 28 m diagonal; from there to 280 m a level's
 // patches stay room-sized (a 43 m level sized from its own diagonal got 5.4 m patches that spanned rooms: per object worst
