@@ -21,7 +21,12 @@ constexpr int kMostCellsPerAxis = 32;
 
 }  // namespace
 
-SceneIslands::SceneIslands(std::span<const Bounds> partBounds, const glm::dvec3& frameCentre) {
+SceneIslands::SceneIslands(std::span<const Bounds> partBoundsIn, const glm::dvec3& frameCentre) {
+    // A box with a non-finite corner (not from the loader, which refuses such positions) counts as empty: NaN
+    // would break the sweep's ordering.
+    std::vector<Bounds> partBounds(partBoundsIn.begin(), partBoundsIn.end());
+    for (Bounds& b : partBounds)
+        if (!std::isfinite(b.min.x + b.min.y + b.min.z + b.max.x + b.max.y + b.max.z)) b = Bounds{};
     const std::size_t n = partBounds.size();
     Bounds all;
     for (const Bounds& b : partBounds)

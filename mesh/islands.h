@@ -30,8 +30,8 @@ inline double floatStepM(double magnitudeM) { return magnitudeM * 0x1p-23; }
 
 class SceneIslands {
 public:
-    // Groups parts given by their bounding boxes (empty boxes form islands of their own that islandAt never
-    // returns). `frameCentre` is where float coordinates are taken from (the scene bounds' centre). A sweep along
+    // Groups parts given by their bounding boxes (empty or non-finite boxes form islands of their own that islandAt
+    // never returns). `frameCentre` is where float coordinates are taken from (the scene bounds' centre). A sweep along
     // the longest axis: O(n log n) plus the pairs whose boxes come close along it. Throws std::bad_alloc only.
     SceneIslands(std::span<const Bounds> partBounds, const glm::dvec3& frameCentre);
     // The scene's instances as parts, its bounds' centre as the frame centre.

@@ -88,11 +88,15 @@ TEST(SceneIslands, LengthsAreRelativeUnlessFloatStepsAreLarger) {
     }
 }
 
-// Empty parts (no vertices) make islands of their own that lookups never return; no parts at all, no islands.
+// Empty parts (no vertices) and non-finite ones make islands of their own that lookups never return; no parts at all,
+// no islands.
 TEST(SceneIslands, EmptyPartsAndNoParts) {
-    const std::vector<Bounds> parts = {Bounds{}, unitCubeAt({5, 5, 5}), Bounds{}};
+    Bounds notFinite = unitCubeAt({5, 5, 5});
+    notFinite.max.y = std::nan("");
+    const std::vector<Bounds> parts = {Bounds{}, unitCubeAt({5, 5, 5}), Bounds{}, notFinite};
     const SceneIslands islands(parts, glm::dvec3(5.5));
-    EXPECT_EQ(islands.size(), 3u);
+    EXPECT_EQ(islands.size(), 4u);
+    EXPECT_TRUE(islands.bounds(3).empty());
     EXPECT_EQ(islands.islandOfPart(1), 1u);
     EXPECT_EQ(islands.islandAt({0, 0, 0}), 1u);
     EXPECT_EQ(islands.lengthM(0, 1.0, 1.0), 0.0);
