@@ -66,7 +66,9 @@ SceneIslands::SceneIslands(std::span<const Bounds> partBoundsIn, const glm::dvec
         const auto [it, added] = islandOfRoot.emplace(groups.find(std::uint32_t(i)), std::uint32_t(bounds_.size()));
         if (added) bounds_.emplace_back();
         islandOfPart_[i] = it->second;
-        if (!partBounds[i].empty()) bounds_[it->second].extend(partBounds[i].min), bounds_[it->second].extend(partBounds[i].max);
+        if (partBounds[i].empty()) continue;
+        bounds_[it->second].extend(partBounds[i].min);
+        bounds_[it->second].extend(partBounds[i].max);
     }
     farthestM_.resize(bounds_.size(), 0.0);
     for (std::size_t k = 0; k < bounds_.size(); ++k) {
@@ -98,9 +100,7 @@ SceneIslands::SceneIslands(std::span<const Bounds> partBoundsIn, const glm::dvec
         cellRange(bounds_[k], lo, hi);
         for (int z = lo.z; z <= hi.z; ++z)
             for (int y = lo.y; y <= hi.y; ++y)
-                for (int x = lo.x; x <= hi.x; ++x)
-                    perCell[(std::size_t(z) * std::size_t(cells_.y) + std::size_t(y)) * std::size_t(cells_.x) + std::size_t(x)]
-                        .push_back(std::uint32_t(k));
+                for (int x = lo.x; x <= hi.x; ++x) perCell[cellIndex({x, y, z})].push_back(std::uint32_t(k));
     }
     cellStart_.assign(cellCount + 1, 0);
     for (std::size_t c = 0; c < cellCount; ++c) cellStart_[c + 1] = cellStart_[c] + std::uint32_t(perCell[c].size());
@@ -142,7 +142,7 @@ std::size_t SceneIslands::islandAt(const glm::dvec3& p) const {
             c[a] = inside ? int(t) : 0;
         }
         if (inside) {
-            const std::size_t cell = (std::size_t(c.z) * std::size_t(cells_.y) + std::size_t(c.y)) * std::size_t(cells_.x) + std::size_t(c.x);
+            const std::size_t cell = cellIndex(c);
             for (std::uint32_t i = cellStart_[cell]; i < cellStart_[cell + 1]; ++i) consider(cellIslands_[i]);
             if (best < bounds_.size()) return best;
         }

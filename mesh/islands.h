@@ -4,10 +4,10 @@
 // Lengths that must stand above rounding error (ray epsilons, offsets off a surface, welding tolerances) were sized
 // by the whole scene's diagonal. A level whose parts lie kilometres apart then gave every part the lengths of a
 // 3.7 km scene: a 15 mm ray epsilon where its parts overlap by 1-5 cm, so elements counted as covered and texels as
-// inside geometry, and each copy baked 10-20 % off the same copy alone (docs/performance.md, session 42). Sized by its
-// island, a part keeps the lengths it has alone, raised only where float precision requires: Embree and the
-// rasterizer hold positions as floats relative to the scene's centre, so an island 1.5 km from it cannot use an
-// epsilon below a few float steps there (floatStepM).
+// inside geometry, and each copy's surfaces baked a median 15-23 % off the same copy alone (docs/performance.md,
+// sessions 42 and 43). Sized by its island, a part keeps the lengths it has alone, raised only where float precision
+// requires: Embree and the rasterizer hold positions as floats relative to the scene's centre, so an island 1.5 km
+// from it cannot use an epsilon below a few float steps there (floatStepM).
 //
 // Two parts belong to one island when the gap between their bounding boxes is at most the larger box's diagonal (a
 // chair beside a table, two plates facing each other, rooms sharing walls; not copies of a room a kilometre apart);
@@ -67,6 +67,9 @@ private:
     glm::ivec3 cells_{0};
     glm::dvec3 cellSizeM_{1.0};
     std::vector<std::uint32_t> cellStart_, cellIslands_;
+    std::size_t cellIndex(const glm::ivec3& c) const {
+        return (std::size_t(c.z) * std::size_t(cells_.y) + std::size_t(c.y)) * std::size_t(cells_.x) + std::size_t(c.x);
+    }
 };
 
 }  // namespace hemibake
