@@ -117,7 +117,7 @@ int runBake(const BakeOptions& o) {
     Stopwatch loading;
     const Scene scene = loadGltf(o.scenePath);
     BakeOutput output{o.scenePath, o.outDir, loading.seconds()};
-    const BakeResult result = bakeScene(scene, resolveSettings(o, scene.bounds().diagonal()), output,
+    const BakeResult result = bakeScene(scene, resolveSettings(o, presetSizingDiagonalM(scene)), output,
                                         [&](const BakeProgressEvent& e) {
                                             switch (e.kind) {
                                                 case BakeProgressEvent::Kind::Update: progress.update(e.message); break;
@@ -143,7 +143,8 @@ CommandRunner addBakeCommand(CLI::App& app) {
     cmd->add_option("-o,--output", o->outDir, "Output directory (created if missing; files appear atomically)")->required();
     std::string presetHelp = "Speed/accuracy preset; sizes scale with the scene's bounding-box diagonal up to 28 m, stay fixed in metres "
                              "from there to 280 m (a level's patches are room-sized whatever its extent) and follow a tenth of "
-                             "the diagonal beyond (open worlds):";
+                             "the diagonal beyond (open worlds). The diagonal is the largest island's: parts within their own "
+                             "size of each other, so levels placed kilometres apart are sized as one level:";
     for (const PresetDescription& p : presetDescriptions()) presetHelp += "\n  " + p.name + ": " + p.summary;
     cmd->add_option("--preset", o->preset, presetHelp)->capture_default_str()->check(CLI::IsMember({"draft", "medium", "high", "ultra"}));
     cmd->add_option("--patch-size", o->patchSize, "Longest edge of a shooting patch, metres (overrides the preset)")

@@ -7,6 +7,7 @@
 
 #include "cli/command.h"
 #include "mesh/gltf_loader.h"
+#include "mesh/islands.h"
 #include "mesh/subdivision.h"
 #include "cli/json_vectors.h"
 
@@ -76,6 +77,8 @@ nlohmann::json describe(const Scene& scene, const SubdivisionSettings& settings)
     const Bounds b = scene.bounds();
     j["bounds"] = {{"min", jsonVec(b.min)}, {"max", jsonVec(b.max)}};
     j["surfaceAreaM2"] = scene.surfaceAreaM2();
+    const SceneIslands islands = SceneIslands::ofScene(scene);
+    j["islands"] = {{"count", islands.size()}, {"largestDiagonalM", islands.largestDiagonalM()}};
     const SubdivisionStats s = countSubdivision(scene, settings);
     j["subdivision"] = {{"cutAlongSolids", settings.cutAlongSolids},
                         {"patchSizeM", settings.patchSizeM},
@@ -103,6 +106,8 @@ void printText(const nlohmann::json& j) {
               << "triangles   " << j["triangles"] << " (" << j["degenerateTrianglesDropped"] << " degenerate dropped)\n"
               << "bounds      " << fmt3(j["bounds"]["min"]) << "  ..  " << fmt3(j["bounds"]["max"]) << " m\n"
               << "area        " << j["surfaceAreaM2"].get<double>() << " m²\n"
+              << "islands     " << j["islands"]["count"] << " (largest diagonal "
+              << j["islands"]["largestDiagonalM"].get<double>() << " m; presets size patches and texels by it)\n"
               << "materials   " << j["materials"].size() << "\n";
     for (const auto& m : j["materials"])
         std::cout << "  " << std::left << std::setw(16) << m["name"].get<std::string>() << " ρ " << fmt3(m["reflectance"], 3)

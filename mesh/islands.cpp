@@ -163,4 +163,11 @@ double SceneIslands::largestLengthM(double relative, double floatSteps) const {
     return largest;
 }
 
+double SceneIslands::largestDiagonalM() const {
+    double largest = 0.0;
+    for (const Bounds& b : bounds_)
+        if (const double d = b.diagonal(); std::isfinite(d)) largest = std::max(largest, d);  // empty: 0
+    return largest;
+}
+
 }  // namespace hemibake

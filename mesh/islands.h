@@ -55,6 +55,9 @@ public:
     }
     // The largest lengthM over the islands (0 with none): for a tolerance that must hold everywhere at once.
     double largestLengthM(double relative, double floatSteps) const;
+    // The largest island's bounding-box diagonal (0 with none): the extent a bake's sizes follow, so copies of a level
+    // kilometres apart are sized as the level alone. Equals the scene's diagonal when its parts form one island.
+    double largestDiagonalM() const;
 
 private:
     double distanceToIsland(std::size_t island, const glm::dvec3& p) const;

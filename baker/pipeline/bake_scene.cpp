@@ -13,6 +13,7 @@
 #include "baker/output/png_preview.h"
 #include "baker/output/radiance_preview.h"
 #include "baker/pipeline/bake_probes.h"
+#include "baker/pipeline/presets.h"
 #include "baker/rays/embree_scene.h"
 #include "baker/rays/inside_geometry.h"
 #include "baker/util/atomic_output.h"
@@ -40,7 +41,7 @@ public:
         r.sceneAbsolute = output.scenePath.empty()
                               ? std::string()
                               : std::filesystem::absolute(output.scenePath).lexically_normal().string();
-        r.settings = resolved(settings, scene.bounds().diagonal());
+        r.settings = resolved(settings, presetSizingDiagonalM(scene));
         r.triangles = scene.triangleCount();
         if (output.loadSeconds > 0.0) r.timings.push_back({"load", output.loadSeconds});
         for (const std::string& w : scene.report.warnings) warn(w);

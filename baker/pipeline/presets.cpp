@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "mesh/islands.h"
+
 namespace hemibake {
 
 namespace {
@@ -86,5 +88,7 @@ BakeSettings presetSettings(const std::string& name, double sceneDiagonalM) {
     }
     throw std::invalid_argument("unknown preset '" + name + "' (draft, medium, high or ultra)");
 }
+
+double presetSizingDiagonalM(const Scene& scene) { return SceneIslands::ofScene(scene).largestDiagonalM(); }
 
 }  // namespace hemibake

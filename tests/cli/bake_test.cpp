@@ -1,5 +1,6 @@
 // `hemibake bake` as users call it: the bake.json contract, convergence history, exit codes, no partial output.
 #include <chrono>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -302,4 +303,29 @@ TEST(CliBakeExtremes, HundredKilometreAndFarMillimetreScenesBake) {
         EXPECT_EQ(j["lightmap"]["texels"].get<int>(), 2500);  // 50 × 50 either way
         EXPECT_GLBS_VALID(out);
     }
+}
+
+// Presets size a scene by its largest island, not its whole box: two furnaces 2 km apart get the patches and texel
+// density of one furnace (√3 m diagonal: draft's diagonal/6 patches, 64 texels along it), where sizing by the 2 km
+// box gave 33 m patches and 8 texels/m. `info` reports the islands.
+TEST(CliBake, FurnacesKilometresApartAreSizedAsOneFurnace) {
+    TempDir dir;
+    hemibake::test::GltfFixture g = hemibake::test::furnaceFixture();
+    g.addNode({{"name", "far furnace"}, {"mesh", 0}, {"translation", {2000.0, 0.0, 0.0}}});
+    const std::string scene = g.writeGltf(dir, "two-furnaces");
+    const double furnaceDiagonalM = std::sqrt(3.0);
+
+    const auto info = runHemibake({"info", scene, "--json"});
+    ASSERT_EQ(info.exitCode, 0) << info.err;
+    const nlohmann::json i = nlohmann::json::parse(info.out);
+    EXPECT_EQ(i["islands"]["count"].get<int>(), 2);
+    EXPECT_NEAR(i["islands"]["largestDiagonalM"].get<double>(), furnaceDiagonalM, 1e-6);
+
+    const std::string out = dir.file("out");
+    const auto r = runHemibake(quickBake(scene, out, {"--no-preview"}));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const nlohmann::json j = readBakeJson(out);
+    EXPECT_EQ(j["counts"]["islands"].get<int>(), 2);
+    EXPECT_NEAR(j["settings"]["patchSizeM"].get<double>(), furnaceDiagonalM / 6.0, 1e-6);
+    EXPECT_NEAR(j["settings"]["texelsPerUnit"].get<double>(), 64.0 / furnaceDiagonalM, 1e-4);
 }

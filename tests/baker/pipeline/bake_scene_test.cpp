@@ -140,6 +140,32 @@ TEST(Presets, PatchesStopGrowingAtTwentyEightMetres) {
     EXPECT_DOUBLE_EQ(presetSettings("medium", 1.41e5).solve.subdivision.patchSizeM, 1.41e4 / 8);
 }
 
+// Presets size a scene by its largest island (presetSizingDiagonalM): ten copies of a room 1 km apart are sized as
+// the room alone (sized by the 9 km box they would be an open world with 113 m patches at medium); a scene of one
+// island is sized by its own box exactly, as before islands.
+TEST(Presets, CopiesKilometresApartAreSizedAsOneCopy) {
+    auto rooms = [](int copies, double gapM) {
+        SceneBuilder b("rooms");
+        const int wall = b.addMaterial(glm::vec3(0.7f));
+        for (int k = 0; k < copies; ++k) {
+            const double x = k * (6.0 + gapM);
+            b.addBox({x, 0, 0}, {x + 6.0, 3, 4}, wall, true, "room " + std::to_string(k));
+        }
+        return b.build();
+    };
+    const Scene one = rooms(1, 0.0), near = rooms(10, 0.5), far = rooms(10, 1000.0);
+    const double roomDiagonalM = std::sqrt(36.0 + 9.0 + 16.0);
+    EXPECT_DOUBLE_EQ(presetSizingDiagonalM(one), one.bounds().diagonal());
+    EXPECT_NEAR(presetSizingDiagonalM(one), roomDiagonalM, 1e-12);
+    EXPECT_DOUBLE_EQ(presetSizingDiagonalM(near), near.bounds().diagonal());  // rooms 0.5 m apart: one island
+    EXPECT_NEAR(presetSizingDiagonalM(far), roomDiagonalM, 1e-9);
+    EXPECT_GT(far.bounds().diagonal(), 9000.0);
+    const double patchM = presetSettings("medium", presetSizingDiagonalM(far)).solve.subdivision.patchSizeM;
+    EXPECT_NEAR(patchM, roomDiagonalM / 8, 1e-9);
+    EXPECT_NEAR(defaultTexelsPerUnit("medium", presetSizingDiagonalM(far)), 128.0 / roomDiagonalM, 1e-9);
+    EXPECT_DOUBLE_EQ(presetSizingDiagonalM(SceneBuilder("empty").build()), 0.0);
+}
+
 TEST(BakeScene, ProgressCanCancel) {
     const Scene scene = twoSealedRooms();
     BakeSettings settings = presetSettings("draft", scene.bounds().diagonal());
