@@ -119,6 +119,16 @@ SceneIslands SceneIslands::ofScene(const Scene& scene) {
     return SceneIslands(parts, all.empty() ? glm::dvec3(0.0) : all.centre());
 }
 
+SceneIslands SceneIslands::ofElements(const ElementArrays& elements, const glm::dvec3& frameCentre) {
+    std::vector<Bounds> parts;
+    for (std::size_t e = 0; e < elements.size(); ++e) {
+        const std::size_t i = elements.instance[e];
+        if (i >= parts.size()) parts.resize(i + 1);
+        for (std::uint32_t v : elements.triangles[e]) parts[i].extend(elements.vertices[v]);
+    }
+    return SceneIslands(parts, frameCentre);
+}
+
 double SceneIslands::distanceToIsland(std::size_t island, const glm::dvec3& p) const {
     const Bounds& b = bounds_[island];
     if (b.empty()) return std::numeric_limits<double>::infinity();

@@ -21,6 +21,7 @@
 
 #include <glm/glm.hpp>
 
+#include "mesh/patches.h"
 #include "mesh/scene.h"
 
 namespace hemibake {
@@ -36,6 +37,9 @@ public:
     SceneIslands(std::span<const Bounds> partBounds, const glm::dvec3& frameCentre);
     // The scene's instances as parts, its bounds' centre as the frame centre.
     static SceneIslands ofScene(const Scene& scene);
+    // The elements grouped by instance (ElementArrays::instance) as parts, the vertices of each instance's elements
+    // giving its box; floats taken from `frameCentre` (where the consumer holds its floats from).
+    static SceneIslands ofElements(const ElementArrays& elements, const glm::dvec3& frameCentre);
 
     std::size_t size() const { return bounds_.size(); }
     std::size_t islandOfPart(std::size_t part) const { return islandOfPart_[part]; }

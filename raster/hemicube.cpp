@@ -108,6 +108,10 @@ void FormFactorList::clear() {
 HemicubeRenderer::HemicubeRenderer(const SceneBuffers& scene, int resolution, const OcclusionCullingSettings& occlusion)
     : scene_(&scene), weights_(resolution), eyeOffsetM_(kEyeOffsetPerDiagonal * scene.sceneDiagonalM()),
       nearPlaneM_(kNearPlanePerEyeOffset * eyeOffsetM_), occlusion_(occlusion) {
+    const SceneIslands& islands = scene.islands();
+    if (islands.size() > 1)
+        for (std::size_t k = 0; k < islands.size(); ++k)
+            islandEyeOffsetM_.push_back(islands.lengthM(k, kEyeOffsetPerDiagonal, kEyeOffsetFloatSteps));
     const GlContext& context = scene.context();
     if (context.majorVersion() * 10 + context.minorVersion() < 45 && !context.hasExtension("GL_ARB_clip_control"))
         throw GlError("HemicubeRenderer needs OpenGL 4.5 or GL_ARB_clip_control (reversed-Z); the context is " +
@@ -185,6 +189,8 @@ void HemicubeRenderer::draw(const HemicubeFrame& frame, Target target, glm::vec3
     glm::dvec3 tangent, bitangent;
     frame.tangentFrame(tangent, bitangent);
     const glm::dvec3 normal = glm::normalize(frame.normal);
+    eyeOffsetM_ = eyeOffsetAtM(frame.position);
+    nearPlaneM_ = kNearPlanePerEyeOffset * eyeOffsetM_;
     const glm::vec3 eye(frame.position + eyeOffsetM_ * normal - scene_->origin());
 
     // Per face: the frame, and per chunk the faces whose frustum its box reaches (CPU culling).
@@ -421,6 +427,11 @@ void HemicubeRenderer::renderFormFactors(const HemicubeFrame& frame, FormFactorL
     out.skyFraction = sky;
     out.backfaceFraction = backface;
     if (nearest > 0.0f) out.minDepthM = nearPlaneM_ / static_cast<double>(nearest);
+}
+
+double HemicubeRenderer::eyeOffsetAtM(const glm::dvec3& p) const {
+    if (islandEyeOffsetM_.empty()) return kEyeOffsetPerDiagonal * scene_->sceneDiagonalM();
+    return islandEyeOffsetM_[scene_->islands().islandAt(p)];
 }
 
 double HemicubeRenderer::formFactorNearerThan(double distanceM) const {

@@ -89,6 +89,11 @@ public:
     // own surface or coplanar neighbours at the horizon, yet small enough that the slab it skips below the eye
     // is negligible (a strip of height ε at distance d changes F by O(ε²/d²)).
     static constexpr double kEyeOffsetPerDiagonal = 1e-5;
+    // With parts kilometres apart (several islands, mesh/islands.h) a frame takes the eye offset of its own island's
+    // diagonal instead, raised to this many float steps at the island's distance from the origin (floats hold
+    // positions there): ten copies of a level 1 km apart would otherwise look from 37 mm above every surface, out of
+    // the 1-5 cm gaps between their parts. A scene of one island keeps exactly the offset above.
+    static constexpr double kEyeOffsetFloatSteps = 4.0;
     // Half the eye offset: reversed-Z keeps depth precision independent of the near plane, so it can be this
     // close; anything nearer than it to the eye is clipped (the leak at concave corners shrinks with it).
     static constexpr double kNearPlanePerEyeOffset = 0.5;
@@ -116,6 +121,9 @@ public:
     int resolution() const { return weights_.resolution(); }
     const HemicubeWeights& weights() const { return weights_; }
     const SceneBuffers& scene() const { return *scene_; }
+    // The eye offset of a frame at p (see kEyeOffsetFloatSteps). Thread-safe.
+    double eyeOffsetAtM(const glm::dvec3& p) const;
+    // Of the last frame drawn; before any, the scene's (kEyeOffsetPerDiagonal × its diagonal).
     double eyeOffsetM() const { return eyeOffsetM_; }
     double nearPlaneM() const { return nearPlaneM_; }
     // Chunks drawn (summed over faces) by the last render: for benchmarks and culling tests.
@@ -142,6 +150,7 @@ private:
     HemicubeWeights weights_;
     double eyeOffsetM_;
     double nearPlaneM_;
+    std::vector<double> islandEyeOffsetM_;  // per island, only with two or more
 
     GlObject framebuffer_;
     GlObject itemBuffer_;

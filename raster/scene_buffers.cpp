@@ -53,7 +53,7 @@ void splitIntoChunks(std::vector<std::uint32_t>& order, std::size_t first, std::
 
 SceneBuffers::SceneBuffers(const GlContext& context, const PatchMesh& mesh, std::uint32_t trianglesPerChunk)
     : context_(&context), elementCount_(mesh.elements.size()), origin_(mesh.origin),
-      sceneDiagonalM_(mesh.sceneDiagonalM) {
+      sceneDiagonalM_(mesh.sceneDiagonalM), islands_(SceneIslands::ofElements(mesh.elements, mesh.origin)) {
     const ElementArrays& elements = mesh.elements;
     if (elementCount_ >= 0xFFFFFFF0u) throw GlError("SceneBuffers: too many elements for 32-bit item ids");
     if (!(sceneDiagonalM_ > 0.0)) throw GlError("SceneBuffers: PatchMesh::sceneDiagonalM must be positive");

@@ -15,6 +15,7 @@
 
 #include <glm/glm.hpp>
 
+#include "mesh/islands.h"
 #include "mesh/patches.h"
 #include "raster/gl_object.h"
 
@@ -76,6 +77,9 @@ public:
     std::span<const std::uint32_t> drawOrder() const { return order_; }
     const glm::dvec3& origin() const { return origin_; }
     double sceneDiagonalM() const { return sceneDiagonalM_; }
+    // The elements' islands (by instance), floats from origin(): lengths that must stand above float rounding near a
+    // point take its island's size, not the scene's (mesh/islands.h).
+    const SceneIslands& islands() const { return islands_; }
     // Vertex array: attribute 0 position (vec3), 1 element index (uint), 2 element normal (packed vec4), 3 lightmap
     // (u, v, layer) once a TexelLight is set.
     GLuint vertexArray() const { return vertexArray_.id(); }
@@ -88,6 +92,7 @@ private:
     std::size_t elementCount_ = 0;
     glm::dvec3 origin_{0.0};
     double sceneDiagonalM_ = 0.0;
+    SceneIslands islands_;
     std::vector<Chunk> chunks_;
     std::vector<ChunkNode> chunkTree_;
     GlObject vertexBuffer_;

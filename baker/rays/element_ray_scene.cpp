@@ -167,14 +167,8 @@ namespace {
 // The elements grouped into islands by instance (mesh/islands.h), floats taken from the elements' centre as the BVH
 // takes them.
 SceneIslands elementIslands(const ElementArrays& el) {
-    std::vector<Bounds> parts;
-    for (std::size_t e = 0; e < el.size(); ++e) {
-        const std::size_t i = el.instance[e];
-        if (i >= parts.size()) parts.resize(i + 1);
-        for (std::uint32_t v : el.triangles[e]) parts[i].extend(el.vertices[v]);
-    }
     const Bounds all = elementBounds(el);
-    return SceneIslands(parts, all.empty() ? glm::dvec3(0.0) : all.centre());
+    return SceneIslands::ofElements(el, all.empty() ? glm::dvec3(0.0) : all.centre());
 }
 
 // The ray offset of each island. One island keeps the elements' whole diagonal, as before islands (their vertex bounds,

@@ -5,6 +5,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
+
+#include <glm/gtc/matrix_transform.hpp>
 
 #include "raster/hemicube.h"
 #include "support/raster_cases.h"
@@ -202,6 +205,58 @@ TEST(Hemicube, ClosedBoxFurnaceGathersExactlyTheUniformRadiance) {
         EXPECT_EQ(list.backfaceFraction, 0.0);
         EXPECT_GT(list.size(), 1u);
         for (std::uint32_t e : list.elements) ASSERT_LT(e, mesh.elements.size());
+    }
+}
+
+// Two flat furnaces 3 km apart, 1 × 1 m and 4 mm tall (the gap between two parts), turned off the axes, each its own
+// island (mesh/islands.h). A hemicube on the floor or a wall, up to 1 mm from the edges, must gather exactly the
+// furnace's radiance: nothing of the 7× brighter sky, no back face. With the scene's eye offset (1e-5 of its 3 km
+// diagonal: 30 mm) every eye stood above its furnace's ceiling; each now takes its island's, raised to
+// kEyeOffsetFloatSteps float steps at 1.5 km (0.7 mm; floats step by 0.09-0.18 mm there).
+TEST(Hemicube, FlatFurnacesKilometresApartGatherExactlyTheUniformRadiance) {
+    const glm::dmat3 turn = glm::dmat3(glm::rotate(glm::dmat4(1.0), 0.7, glm::normalize(glm::dvec3(1.0, 2.0, 3.0))));
+    const glm::dvec3 centres[] = {{0.0, 0.0, 0.0}, {3000.0, 1.0, -2.0}};
+    constexpr double kHalfHeightM = 0.002;
+    TriangleSoup soup;
+    std::size_t firstOfBox[2] = {0, 0};
+    for (int b = 0; b < 2; ++b) {
+        firstOfBox[b] = soup.size();
+        soup.addInwardBox({-0.5, -0.5, -kHalfHeightM}, {0.5, 0.5, kHalfHeightM}, 5);
+        soup.transform(turn, centres[b], firstOfBox[b]);
+    }
+    PatchMesh mesh = soup.build();
+    for (std::size_t e = firstOfBox[1]; e < mesh.elements.size(); ++e) mesh.elements.instance[e] = 1;
+
+    GlContext context;
+    SceneBuffers buffers(context, mesh);
+    ASSERT_EQ(buffers.islands().size(), 2u);
+    const glm::vec3 radiance(1.0f, 0.5f, 0.25f);
+    buffers.setElementRadiance(std::vector<glm::vec3>(mesh.elements.size(), radiance));
+    HemicubeRenderer renderer(buffers, 64);
+    EXPECT_GT(renderer.eyeOffsetM(), 4.0 * kHalfHeightM);  // the scene's: it would not fit
+    for (const glm::dvec3& centre : centres) EXPECT_LT(renderer.eyeOffsetAtM(centre), 0.5 * kHalfHeightM);
+
+    std::mt19937_64 rng(12);
+    std::uniform_real_distribution<double> u(-0.499, 0.499), h(-0.5 * kHalfHeightM, 0.5 * kHalfHeightM);
+    std::vector<HemicubeFrame> frames;
+    for (const glm::dvec3& centre : centres)
+        for (int k = 0; k < 16; ++k) {
+            const double x = k % 8 == 0 ? -0.499 : u(rng), y = k % 8 == 1 ? 0.499 : u(rng);
+            frames.push_back(HemicubeFrame::randomlyRotated(centre + turn * glm::dvec3(x, y, -kHalfHeightM),
+                                                            turn * glm::dvec3(0, 0, 1), rng()));
+            frames.push_back(HemicubeFrame::randomlyRotated(centre + turn * glm::dvec3(0.5, x, h(rng)),
+                                                            turn * glm::dvec3(-1, 0, 0), rng()));
+        }
+    FormFactorList list;
+    for (const HemicubeFrame& frame : frames) {
+        SCOPED_TRACE(frame.position.x);
+        const RadianceGather gather = renderer.gatherRadiance(frame, 7.0f * radiance);
+        for (int ch = 0; ch < 3; ++ch) EXPECT_NEAR(gather.irradianceOverPi[ch], radiance[ch], 1e-6 * radiance[ch]);
+        EXPECT_EQ(gather.skyFraction, 0.0);
+        EXPECT_EQ(gather.backfaceFraction, 0.0);
+        renderer.renderFormFactors(frame, list);
+        EXPECT_NEAR(list.sum(), 1.0, 1e-6);
+        EXPECT_EQ(list.backfaceFraction, 0.0);
     }
 }
 
