@@ -7,8 +7,6 @@
 #include <cmath>
 #include <random>
 
-#include <glm/gtc/matrix_transform.hpp>
-
 #include "raster/hemicube.h"
 #include "support/raster_cases.h"
 
@@ -214,18 +212,9 @@ TEST(Hemicube, ClosedBoxFurnaceGathersExactlyTheUniformRadiance) {
 // diagonal: 30 mm) every eye stood above its furnace's ceiling; each now takes its island's, raised to
 // kEyeOffsetFloatSteps float steps at 1.5 km (0.7 mm; floats step by 0.09-0.18 mm there).
 TEST(Hemicube, FlatFurnacesKilometresApartGatherExactlyTheUniformRadiance) {
-    const glm::dmat3 turn = glm::dmat3(glm::rotate(glm::dmat4(1.0), 0.7, glm::normalize(glm::dvec3(1.0, 2.0, 3.0))));
-    const glm::dvec3 centres[] = {{0.0, 0.0, 0.0}, {3000.0, 1.0, -2.0}};
-    constexpr double kHalfHeightM = 0.002;
-    TriangleSoup soup;
-    std::size_t firstOfBox[2] = {0, 0};
-    for (int b = 0; b < 2; ++b) {
-        firstOfBox[b] = soup.size();
-        soup.addInwardBox({-0.5, -0.5, -kHalfHeightM}, {0.5, 0.5, kHalfHeightM}, 5);
-        soup.transform(turn, centres[b], firstOfBox[b]);
-    }
-    PatchMesh mesh = soup.build();
-    for (std::size_t e = firstOfBox[1]; e < mesh.elements.size(); ++e) mesh.elements.instance[e] = 1;
+    const FlatFurnaces furnaces;
+    const PatchMesh& mesh = furnaces.mesh;
+    constexpr double kHalfHeightM = FlatFurnaces::kHalfHeightM;
 
     GlContext context;
     SceneBuffers buffers(context, mesh);
@@ -234,18 +223,18 @@ TEST(Hemicube, FlatFurnacesKilometresApartGatherExactlyTheUniformRadiance) {
     buffers.setElementRadiance(std::vector<glm::vec3>(mesh.elements.size(), radiance));
     HemicubeRenderer renderer(buffers, 64);
     EXPECT_GT(renderer.eyeOffsetM(), 4.0 * kHalfHeightM);  // the scene's: it would not fit
-    for (const glm::dvec3& centre : centres) EXPECT_LT(renderer.eyeOffsetAtM(centre), 0.5 * kHalfHeightM);
+    for (const glm::dvec3& centre : furnaces.centres) EXPECT_LT(renderer.eyeOffsetAtM(centre), 0.5 * kHalfHeightM);
 
     std::mt19937_64 rng(12);
     std::uniform_real_distribution<double> u(-0.499, 0.499), h(-0.5 * kHalfHeightM, 0.5 * kHalfHeightM);
     std::vector<HemicubeFrame> frames;
-    for (const glm::dvec3& centre : centres)
+    for (std::size_t b = 0; b < 2; ++b)
         for (int k = 0; k < 16; ++k) {
             const double x = k % 8 == 0 ? -0.499 : u(rng), y = k % 8 == 1 ? 0.499 : u(rng);
-            frames.push_back(HemicubeFrame::randomlyRotated(centre + turn * glm::dvec3(x, y, -kHalfHeightM),
-                                                            turn * glm::dvec3(0, 0, 1), rng()));
-            frames.push_back(HemicubeFrame::randomlyRotated(centre + turn * glm::dvec3(0.5, x, h(rng)),
-                                                            turn * glm::dvec3(-1, 0, 0), rng()));
+            frames.push_back(HemicubeFrame::randomlyRotated(furnaces.on(b, {x, y, -kHalfHeightM}),
+                                                            furnaces.direction({0, 0, 1}), rng()));
+            frames.push_back(HemicubeFrame::randomlyRotated(furnaces.on(b, {0.5, x, h(rng)}),
+                                                            furnaces.direction({-1, 0, 0}), rng()));
         }
     FormFactorList list;
     for (const HemicubeFrame& frame : frames) {

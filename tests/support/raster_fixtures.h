@@ -7,6 +7,7 @@
 #include <vector>
 
 #include <glm/glm.hpp>
+#include <glm/gtc/matrix_transform.hpp>
 
 #include "mesh/patches.h"
 
@@ -150,5 +151,29 @@ inline double cornerPerpendicularFormFactor(double a, double b, double c) {
     const double s = std::sqrt(b * b + c * c);
     return (std::atan(a / c) - c / s * std::atan(a / s)) / (2.0 * std::numbers::pi);
 }
+
+// Two flat furnaces 3 km apart, 1 × 1 m and 4 mm tall (the gap between two parts), turned off the axes so no wall's
+// coordinates are exact in float; each is its own instance (so its own island, mesh/islands.h). `on(b, p)` maps a
+// point of the unit box [-0.5, 0.5]² × [-h, h] into furnace b.
+struct FlatFurnaces {
+    static constexpr double kHalfHeightM = 0.002;
+    glm::dmat3 turn = glm::dmat3(glm::rotate(glm::dmat4(1.0), 0.7, glm::normalize(glm::dvec3(1.0, 2.0, 3.0))));
+    std::array<glm::dvec3, 2> centres{glm::dvec3(0.0, 0.0, 0.0), glm::dvec3(3000.0, 1.0, -2.0)};
+    PatchMesh mesh;
+    FlatFurnaces() {
+        TriangleSoup soup;
+        std::size_t firstOfSecond = 0;
+        for (int b = 0; b < 2; ++b) {
+            const std::size_t first = soup.size();
+            if (b == 1) firstOfSecond = first;
+            soup.addInwardBox({-0.5, -0.5, -kHalfHeightM}, {0.5, 0.5, kHalfHeightM}, 5);
+            soup.transform(turn, centres[std::size_t(b)], first);
+        }
+        mesh = soup.build();
+        for (std::size_t e = firstOfSecond; e < mesh.elements.size(); ++e) mesh.elements.instance[e] = 1;
+    }
+    glm::dvec3 on(std::size_t b, const glm::dvec3& p) const { return centres[b] + turn * p; }
+    glm::dvec3 direction(const glm::dvec3& d) const { return turn * d; }
+};
 
 }  // namespace hemibake::test

@@ -157,29 +157,20 @@ TEST(RayGatherer, FurnaceSeesTheUniformRadianceFromEveryPoint) {
 // edge to the bright sky (GROUND_TRUTH §2). With the whole scene's offset (12 mm) instead, the points rose out of
 // their furnaces (385 expectations failed); with 0.1 float step, 71 of the 256 re-hit their own surfaces.
 TEST(RayGatherer, FlatFurnacesKilometresApartSeeTheirUniformRadiance) {
-    const glm::dmat3 turn = glm::dmat3(glm::rotate(glm::dmat4(1.0), 0.7, glm::normalize(glm::dvec3(1.0, 2.0, 3.0))));
-    const glm::dvec3 centres[] = {{0.0, 0.0, 0.0}, {3000.0, 1.0, -2.0}};
-    constexpr double kHalfHeightM = 0.002;
-    TriangleSoup soup;
-    std::size_t firstOfBox[2] = {0, 0};
-    for (int b = 0; b < 2; ++b) {
-        firstOfBox[b] = soup.size();
-        soup.addInwardBox({-0.5, -0.5, -kHalfHeightM}, {0.5, 0.5, kHalfHeightM}, 5);
-        soup.transform(turn, centres[b], firstOfBox[b]);
-    }
-    PatchMesh mesh = soup.build();
-    for (std::size_t e = firstOfBox[1]; e < mesh.elements.size(); ++e) mesh.elements.instance[e] = 1;
+    const FlatFurnaces furnaces;
+    const PatchMesh& mesh = furnaces.mesh;
+    constexpr double kHalfHeightM = FlatFurnaces::kHalfHeightM;
     const glm::vec3 radiance(1.0f, 0.5f, 2.0f);
     RayGatherer g(mesh, 1024, 3);
     g.setElementRadiance(std::vector<glm::vec3>(mesh.elements.size(), radiance));
     std::mt19937_64 rng(12);
     std::uniform_real_distribution<double> u(-0.499, 0.499), h(-0.75 * kHalfHeightM, 0.75 * kHalfHeightM);
     std::vector<GatherPoint> points;
-    for (const glm::dvec3& centre : centres)
+    for (std::size_t b = 0; b < 2; ++b)
         for (int k = 0; k < 64; ++k) {
             const double x = k % 8 == 0 ? -0.499 : u(rng), y = k % 8 == 1 ? 0.499 : u(rng);
-            points.push_back({centre + turn * glm::dvec3(x, y, -kHalfHeightM), glm::vec3(turn * glm::dvec3(0, 0, 1))});
-            points.push_back({centre + turn * glm::dvec3(0.5, x, h(rng)), glm::vec3(turn * glm::dvec3(-1, 0, 0))});
+            points.push_back({furnaces.on(b, {x, y, -kHalfHeightM}), glm::vec3(furnaces.direction({0, 0, 1}))});
+            points.push_back({furnaces.on(b, {0.5, x, h(rng)}), glm::vec3(furnaces.direction({-1, 0, 0}))});
         }
     expectFurnaceSeenFromEveryPoint(g, points, radiance);
 }
