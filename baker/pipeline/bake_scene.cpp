@@ -41,7 +41,7 @@ public:
         r.sceneAbsolute = output.scenePath.empty()
                               ? std::string()
                               : std::filesystem::absolute(output.scenePath).lexically_normal().string();
-        r.settings = resolved(settings, presetSizingDiagonalM(scene));
+        r.settings = resolved(settings, scene);
         r.triangles = scene.triangleCount();
         if (output.loadSeconds > 0.0) r.timings.push_back({"load", output.loadSeconds});
         for (const std::string& w : scene.report.warnings) warn(w);
@@ -73,14 +73,16 @@ public:
     }
 
 private:
-    static BakeSettings resolved(BakeSettings s, double sceneDiagonalM) {
+    static BakeSettings resolved(BakeSettings s, const Scene& scene) {
         const int r = s.solve.solver.hemicubeResolution;
         if (r < 2 || r % 2) throw std::invalid_argument("--hemicube-res must be an even number >= 2");
         const int g = s.lightmap.gatherResolution;
         if (g != 0 && (g < 2 || g % 2)) throw std::invalid_argument("--gather-res must be 0 or an even number >= 2");
         if (s.lightmap.gatherRays < 0 || s.lightmap.gatherRays > kMaxGatherRays)
             throw std::invalid_argument("--gather-rays must be 0 (R squared) or 1 ... " + std::to_string(kMaxGatherRays));
-        if (!(s.lightmap.texelsPerUnit > 0.0)) s.lightmap.texelsPerUnit = defaultTexelsPerUnit(s.preset, sceneDiagonalM);
+        // The islands cost a pass over every vertex: computed only when no density was given.
+        if (!(s.lightmap.texelsPerUnit > 0.0))
+            s.lightmap.texelsPerUnit = defaultTexelsPerUnit(s.preset, presetSizingDiagonalM(scene));
         return s;
     }
 

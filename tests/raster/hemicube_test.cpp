@@ -5,7 +5,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <random>
 
 #include "raster/hemicube.h"
 #include "support/raster_cases.h"
@@ -226,16 +225,10 @@ TEST(Hemicube, FlatFurnacesKilometresApartGatherExactlyTheUniformRadiance) {
     for (const glm::dvec3& centre : furnaces.centres) EXPECT_LT(renderer.eyeOffsetAtM(centre), 0.5 * kHalfHeightM);
 
     std::mt19937_64 rng(12);
-    std::uniform_real_distribution<double> u(-0.499, 0.499), h(-0.5 * kHalfHeightM, 0.5 * kHalfHeightM);
     std::vector<HemicubeFrame> frames;
-    for (std::size_t b = 0; b < 2; ++b)
-        for (int k = 0; k < 16; ++k) {
-            const double x = k % 8 == 0 ? -0.499 : u(rng), y = k % 8 == 1 ? 0.499 : u(rng);
-            frames.push_back(HemicubeFrame::randomlyRotated(furnaces.on(b, {x, y, -kHalfHeightM}),
-                                                            furnaces.direction({0, 0, 1}), rng()));
-            frames.push_back(HemicubeFrame::randomlyRotated(furnaces.on(b, {0.5, x, h(rng)}),
-                                                            furnaces.direction({-1, 0, 0}), rng()));
-        }
+    furnaces.samplePoints(rng, 16, 0.5, [&](const FlatFurnaces::SurfacePoint& p) {
+        frames.push_back(HemicubeFrame::randomlyRotated(p.position, p.normal, rng()));
+    });
     FormFactorList list;
     for (const HemicubeFrame& frame : frames) {
         SCOPED_TRACE(frame.position.x);

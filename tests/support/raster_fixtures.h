@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <numbers>
+#include <random>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -174,6 +175,23 @@ struct FlatFurnaces {
     }
     glm::dvec3 on(std::size_t b, const glm::dvec3& p) const { return centres[b] + turn * p; }
     glm::dvec3 direction(const glm::dvec3& d) const { return turn * d; }
+
+    struct SurfacePoint {
+        glm::dvec3 position, normal;
+    };
+    // Per furnace `perFurnace` pairs of points: one on the floor (every 8th at x = −0.499, the next at y = 0.499: 1 mm
+    // from the edges) and one on the wall x = 0.5 at a height within ±wallSpread × kHalfHeightM; `draw` receives
+    // each point in turn, so a caller can take further random numbers between points.
+    template <class Rng, class Draw>
+    void samplePoints(Rng& rng, int perFurnace, double wallSpread, Draw&& draw) const {
+        std::uniform_real_distribution<double> u(-0.499, 0.499), h(-wallSpread * kHalfHeightM, wallSpread * kHalfHeightM);
+        for (std::size_t b = 0; b < 2; ++b)
+            for (int k = 0; k < perFurnace; ++k) {
+                const double x = k % 8 == 0 ? -0.499 : u(rng), y = k % 8 == 1 ? 0.499 : u(rng);
+                draw(SurfacePoint{on(b, {x, y, -kHalfHeightM}), direction({0, 0, 1})});
+                draw(SurfacePoint{on(b, {0.5, x, h(rng)}), direction({-1, 0, 0})});
+            }
+    }
 };
 
 }  // namespace hemibake::test

@@ -159,19 +159,14 @@ TEST(RayGatherer, FurnaceSeesTheUniformRadianceFromEveryPoint) {
 TEST(RayGatherer, FlatFurnacesKilometresApartSeeTheirUniformRadiance) {
     const FlatFurnaces furnaces;
     const PatchMesh& mesh = furnaces.mesh;
-    constexpr double kHalfHeightM = FlatFurnaces::kHalfHeightM;
     const glm::vec3 radiance(1.0f, 0.5f, 2.0f);
     RayGatherer g(mesh, 1024, 3);
     g.setElementRadiance(std::vector<glm::vec3>(mesh.elements.size(), radiance));
     std::mt19937_64 rng(12);
-    std::uniform_real_distribution<double> u(-0.499, 0.499), h(-0.75 * kHalfHeightM, 0.75 * kHalfHeightM);
     std::vector<GatherPoint> points;
-    for (std::size_t b = 0; b < 2; ++b)
-        for (int k = 0; k < 64; ++k) {
-            const double x = k % 8 == 0 ? -0.499 : u(rng), y = k % 8 == 1 ? 0.499 : u(rng);
-            points.push_back({furnaces.on(b, {x, y, -kHalfHeightM}), glm::vec3(furnaces.direction({0, 0, 1}))});
-            points.push_back({furnaces.on(b, {0.5, x, h(rng)}), glm::vec3(furnaces.direction({-1, 0, 0}))});
-        }
+    furnaces.samplePoints(rng, 64, 0.75, [&](const FlatFurnaces::SurfacePoint& p) {
+        points.push_back({p.position, glm::vec3(p.normal)});
+    });
     expectFurnaceSeenFromEveryPoint(g, points, radiance);
 }
 
