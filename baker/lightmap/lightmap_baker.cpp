@@ -58,7 +58,8 @@ public:
         while (coarse_ * 2 <= std::max(settings.latticeStep, 1)) coarse_ *= 2;
     }
 
-    // Fills `value` (E/π gathered, without direct light) and `invalid` (inside geometry) for every texel.
+    // Fills `value` (E/π gathered, without direct light) and `invalid` (inside geometry) for every texel; `advanced`
+    // gets the texels finished (gathered or interpolated) after each phase, so over the run it sums to every texel.
     void run(std::vector<glm::dvec3>& value, std::vector<std::uint8_t>& invalid, const std::function<void(std::size_t)>& advanced) {
         const std::size_t n = t_.count();
         value.assign(n, glm::dvec3(0.0));
@@ -70,7 +71,8 @@ public:
                 if (phase == Phase::Lattice && step != coarse_) continue;
                 for (std::size_t i = 0; i < n; ++i) visit(phase, step, i);
                 render(phase, step);
-                advanced(rendered_);
+                advanced(finished_);
+                finished_ = 0;
             }
     }
 
@@ -105,6 +107,7 @@ private:
         if (e.ok && e.curvature <= allowed && e.spread <= 2.0 * allowed) {
             (*value_)[i] = glm::max(e.value, glm::dvec3(0.0));
             done_[i] = 1;
+            ++finished_;
             ++stats_.interpolated;
         } else {
             batch_.push_back(std::uint32_t(i));
@@ -193,12 +196,12 @@ private:
             done_[batch_[k]] = 1;
         }
         stats_.rendered += batch_.size();
+        finished_ += batch_.size();
         if (phase == Phase::Lattice && step == coarse_ && !batch_.empty()) {
             double mean = 0.0;
             for (const glm::dvec3& g : gathered_) mean += channelSum(g);
             floor_ = 0.01 * mean / double(batch_.size());
         }
-        rendered_ = batch_.size();
         batch_.clear();
     }
 
@@ -218,7 +221,7 @@ private:
     std::vector<std::uint32_t> batch_;
     std::vector<glm::dvec3> gathered_;
     std::vector<float> backface_;
-    std::size_t rendered_ = 0;
+    std::size_t finished_ = 0;  // texels finished (gathered or interpolated) since progress was last reported
 };
 
 // Texels inside geometry saw mostly back faces: each takes the mean of its valid continuous neighbours (a few rings).
@@ -379,10 +382,12 @@ public:
     void gatherAt(const std::vector<GatherPoint>& points, const std::vector<std::uint32_t>& ids, std::uint64_t sweep,
                   std::vector<glm::dvec3>& out, std::vector<float>* backface, LightmapStats& stats) {
         if (rayGatherer_) {
-            stats.gatherRaysEscaped +=
+            const RayGatherer::RayCounts counts =
                 rayGatherer_->gather(points, solve_.lighting.skyRadiance, sweep, out, backface, ids);
             stats.gatherRaysPerTexel = rayGatherer_->raysPerPoint();
-            stats.gatherRaysTraced += std::uint64_t(points.size()) * std::uint64_t(rayGatherer_->raysPerPoint());
+            stats.gatherRaysTraced += counts.traced;
+            stats.gatherRaysEscaped += counts.escaped;
+            stats.gatherStoppedInside += counts.stoppedInside;
         } else {
             gatherer_.gather(points, solve_.lighting.skyRadiance, sweep, out, backface);
         }

@@ -37,6 +37,7 @@ struct LightmapStats {
     int gatherRaysPerTexel = 0;            // final gather by rays: rays per gathered texel (0: hemicubes)
     std::uint64_t gatherRaysTraced = 0;    // final gather by rays: all of them, gap passes included
     std::uint64_t gatherRaysEscaped = 0;   // of those, rays that met no surface (the sky's, or nothing)
+    std::uint64_t gatherStoppedInside = 0;  // gathered texels found inside geometry by their probe (ray_gatherer.h)
     // Wall-clock seconds of the lightmap stage's parts (bake.json "lightmap.seconds"): where a large level's time goes.
     struct Seconds {
         double setup = 0.0;       // emitters as the texels see them, element interpolation, gather set-up

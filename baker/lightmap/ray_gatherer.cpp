@@ -48,7 +48,7 @@ glm::dvec3 RayGatherer::texelLightAt(std::uint32_t e, double b1, double b2) cons
     return glm::dvec3(light.scale[e]) * value;
 }
 
-std::uint64_t RayGatherer::gather(const std::vector<GatherPoint>& points, glm::vec3 skyRadiance, std::uint64_t sweep,
+RayGatherer::RayCounts RayGatherer::gather(const std::vector<GatherPoint>& points, glm::vec3 skyRadiance, std::uint64_t sweep,
                                   std::vector<glm::dvec3>& irradianceOverPi, std::vector<float>* backfaceFraction,
                                   std::span<const std::uint32_t> keys) const {
     if (!keys.empty() && keys.size() != points.size())
@@ -58,11 +58,24 @@ std::uint64_t RayGatherer::gather(const std::vector<GatherPoint>& points, glm::v
     if (backfaceFraction) backfaceFraction->assign(points.size(), 0.0f);
     const std::uint64_t base = splitMix64(seed_ ^ splitMix64(sweep));
     const bool texelLightOn = texelLight_ && texelLight_->atlasSize > 0;
-    const double strata = double(strata_);
+    // The probe: every stride-th stratum each way, traced first when back faces are asked for.
+    const int stride = backfaceFraction && strata_ >= 2 * kProbeStrataPerSide ? strata_ / kProbeStrataPerSide : 0;
+    std::vector<std::uint32_t> probe, rest;
+    for (int sy = 0; sy < strata_ && stride; ++sy)
+        for (int sx = 0; sx < strata_; ++sx)
+            (sx % stride == 0 && sy % stride == 0 ? probe : rest).push_back(std::uint32_t(sy * strata_ + sx));
     struct Scratch {
-        std::vector<glm::dvec3> dirs;
-        std::vector<ElementHit> hits;
-        std::uint64_t escaped = 0;  // rays that met no surface
+        std::vector<glm::dvec3> dirs, subsetDirs;
+        std::vector<ElementHit> hits, subsetHits;
+        RayCounts counts;
+    };
+    // Traces the rays `subset` of `dirs` into their places in `hits`.
+    const auto traceSubset = [this](Scratch& s, const glm::dvec3& origin, const std::vector<std::uint32_t>& subset) {
+        s.subsetDirs.resize(subset.size());
+        s.subsetHits.resize(subset.size());
+        for (std::size_t k = 0; k < subset.size(); ++k) s.subsetDirs[k] = s.dirs[subset[k]];
+        scene_->trace(origin, s.subsetDirs, s.subsetHits);
+        for (std::size_t k = 0; k < subset.size(); ++k) s.hits[subset[k]] = s.subsetHits[k];
     };
     tbb::enumerable_thread_specific<Scratch> scratch;
     // Points along a Z-curve: a batch's texels come in atlas order, where neighbours lie anywhere in the level, and
@@ -88,34 +101,56 @@ std::uint64_t RayGatherer::gather(const std::vector<GatherPoint>& points, glm::v
             const double angle = 2.0 * M_PI * uniform();
             const glm::dvec3 t = std::cos(angle) * t0 + std::sin(angle) * b0, b = glm::cross(n, t);
             const glm::dvec3 origin = scene_->lift(points[i].position, n);
+            Scratch& local = scratch.local();
+            local.dirs.clear();
+            appendStratifiedCosineDirections(t, b, n, strata_, uniform, local.dirs);
+            local.hits.resize(local.dirs.size());
+            // What the rays saw, summed in stratum order.
             glm::dvec3 sum(0.0);
-            std::uint64_t backs = 0, skies = 0;
-            std::vector<glm::dvec3>& dirs = scratch.local().dirs;
-            std::vector<ElementHit>& hits = scratch.local().hits;
-            dirs.clear();
-            appendStratifiedCosineDirections(t, b, n, strata_, uniform, dirs);
-            hits.resize(dirs.size());
-            scene_->trace(origin, dirs, hits);
-            for (const ElementHit& seen : hits) {
-                if (seen.kind == ElementHit::Kind::Sky) {
+            std::uint64_t backs = 0, skies = 0, seen = 0;
+            const auto add = [&](const ElementHit& hit) {
+                ++seen;
+                if (hit.kind == ElementHit::Kind::Sky) {
                     sum += glm::dvec3(skyRadiance);
                     ++skies;
-                } else if (seen.kind == ElementHit::Kind::Back) {
+                } else if (hit.kind == ElementHit::Kind::Back) {
                     ++backs;
                 } else {
-                    if (seen.element < radiance_.size()) sum += glm::dvec3(radiance_[seen.element]);
-                    if (texelLightOn) sum += texelLightAt(seen.element, seen.b1, seen.b2);
+                    if (hit.element < radiance_.size()) sum += glm::dvec3(radiance_[hit.element]);
+                    if (texelLightOn) sum += texelLightAt(hit.element, hit.b1, hit.b2);
                 }
+            };
+            if (stride) {
+                traceSubset(local, origin, probe);
+                const auto probeBacks = std::count_if(probe.begin(), probe.end(), [&](std::uint32_t stratum) {
+                    return local.hits[stratum].kind == ElementHit::Kind::Back;
+                });
+                const bool inside = double(probeBacks) > kInsideProbeBackFraction * double(probe.size());
+                if (inside) {
+                    for (const std::uint32_t stratum : probe) add(local.hits[stratum]);
+                } else {
+                    traceSubset(local, origin, rest);
+                    for (const ElementHit& hit : local.hits) add(hit);
+                }
+                local.counts.traced += seen;
+                local.counts.stoppedInside += inside;
+            } else {
+                scene_->trace(origin, local.dirs, local.hits);
+                for (const ElementHit& hit : local.hits) add(hit);
+                local.counts.traced += seen;
             }
-            const double rays = strata * strata;
-            irradianceOverPi[i] = sum / rays;
-            if (backfaceFraction) (*backfaceFraction)[i] = float(double(backs) / rays);
-            scratch.local().escaped += skies;
+            irradianceOverPi[i] = sum / double(seen);
+            if (backfaceFraction) (*backfaceFraction)[i] = float(double(backs) / double(seen));
+            local.counts.escaped += skies;
         }
     });
-    std::uint64_t escaped = 0;
-    for (const Scratch& s : scratch) escaped += s.escaped;
-    return escaped;
+    RayCounts counts;
+    for (const Scratch& s : scratch) {
+        counts.traced += s.counts.traced;
+        counts.escaped += s.counts.escaped;
+        counts.stoppedInside += s.counts.stoppedInside;
+    }
+    return counts;
 }
 
 }  // namespace hemibake

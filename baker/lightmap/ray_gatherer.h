@@ -51,12 +51,25 @@ public:
     // E/π at every point, in parallel over every core. A point's rays depend only on (`sweep`, its key): keys[k] for
     // point k (e.g. its texel index: a texel gets the same rays whatever else is gathered with it), or k when `keys`
     // is empty. `backfaceFraction`, if given, receives each point's share of rays that met the back of a single-sided
-    // surface. Returns how many rays escaped (met no surface and saw the sky): what a level's openings let out.
+    // surface, and lets a point inside geometry stop early: its probe (an 8 × 8 sub-lattice of its strata, 1/64 of
+    // its rays, traced first) meeting back faces on more than kInsideProbeBackFraction of its rays stops it, and its
+    // E/π and share are the probe's (its light is not used: the lightmap refills it from its neighbours). Every other
+    // point traces exactly the rays it would without the probe, summed in the same order. Returns what was traced.
     // Throws std::invalid_argument if keys are given but not one per point.
-    std::uint64_t gather(const std::vector<GatherPoint>& points, glm::vec3 skyRadiance, std::uint64_t sweep,
-                         std::vector<glm::dvec3>& irradianceOverPi, std::vector<float>* backfaceFraction = nullptr,
-                         std::span<const std::uint32_t> keys = {}) const;
-
+    struct RayCounts {
+        std::uint64_t traced = 0;         // rays traced
+        std::uint64_t escaped = 0;        // of those, rays that met no surface (the sky's): what openings let out
+        std::uint64_t stoppedInside = 0;  // points stopped after their probe (inside geometry)
+    };
+    RayCounts gather(const std::vector<GatherPoint>& points, glm::vec3 skyRadiance, std::uint64_t sweep,
+                     std::vector<glm::dvec3>& irradianceOverPi, std::vector<float>* backfaceFraction = nullptr,
+                     std::span<const std::uint32_t> keys = {}) const;
+    // A probe meeting back faces on more than this share of its rays stops its point. The lightmap calls a texel
+    // inside geometry above a tenth (LightmapSettings::invalidBackfaceFraction); half a probe's 64 stratified rays is
+    // far beyond any texel on the surface (a texel under an overlapping wall typically meets 90 % or more).
+    static constexpr double kInsideProbeBackFraction = 0.5;
+    // Probes need at least this many strata a side (8 × 8 rays of a 16 × 16 point and more).
+    static constexpr int kProbeStrataPerSide = 8;
     int raysPerPoint() const { return strata_ * strata_; }
 
 private:

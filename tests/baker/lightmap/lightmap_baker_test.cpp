@@ -35,6 +35,7 @@ struct EmitterOverSquareResult {
     std::size_t texels = 0;
     LightmapStats stats;
     std::size_t latticeTexels = 0;  // texels on the coarse lattice (x and y multiples of latticeStep)
+    std::vector<std::pair<std::size_t, std::size_t>> progress;  // (done, total) as bakeLightmaps reported it
 };
 
 EmitterOverSquareResult bakeEmitterOverSquare(EmitterLighting emitters) {
@@ -62,8 +63,10 @@ EmitterOverSquareResult bakeEmitterOverSquare(EmitterLighting emitters) {
     const UvAtlas atlas = unwrapScene(scene, unwrap);
     const std::vector<AtlasTexels> texels = computeTexels(scene, atlas);
     LightmapStats stats;
+    std::vector<std::pair<std::size_t, std::size_t>> progress;
     std::vector<LightmapImage> images =
-        bakeLightmaps(scene, bake, atlas, texels, rays, settings.lightmap, settings.solve, stats);
+        bakeLightmaps(scene, bake, atlas, texels, rays, settings.lightmap, settings.solve, stats,
+                      [&](std::size_t done, std::size_t total) { progress.emplace_back(done, total); });
     for (LightmapImage& image : images) dilate(image, 2);
 
     double maxRel = 0.0, meanRel = 0.0;
@@ -85,7 +88,7 @@ EmitterOverSquareResult bakeEmitterOverSquare(EmitterLighting emitters) {
     for (const AtlasTexels& t : texels)
         for (std::size_t i = 0; i < t.count(); ++i)
             lattice += t.x[i] % settings.lightmap.latticeStep == 0 && t.y[i] % settings.lightmap.latticeStep == 0;
-    return {maxRel, meanRel / double(std::max<std::size_t>(n, 1)), stats.renderedFraction(), n, stats, lattice};
+    return {maxRel, meanRel / double(std::max<std::size_t>(n, 1)), stats.renderedFraction(), n, stats, lattice, progress};
 }
 
 }  // namespace
@@ -99,6 +102,12 @@ TEST(LightmapBaker, EmitterOverSquareMatchesContourFormula) {
     EXPECT_EQ(r.stats.renderedLattice + r.stats.renderedUnsupported + r.stats.renderedDisagreeing, r.stats.rendered);
     EXPECT_EQ(r.stats.renderedLattice, r.latticeTexels);
     EXPECT_GT(r.stats.renderedUnsupported, 0u);  // the charts' edges, where a lattice neighbour is off the chart
+    // Progress counts texels finished, gathered or interpolated: it rises to every texel and ends there (it counted
+    // gathered texels only, and a level's bake stopped at a third of its total while looking a third done).
+    ASSERT_FALSE(r.progress.empty());
+    for (std::size_t k = 1; k < r.progress.size(); ++k) EXPECT_GE(r.progress[k].first, r.progress[k - 1].first);
+    EXPECT_EQ(r.progress.back().first, r.progress.back().second);
+    EXPECT_EQ(r.progress.back().second, r.stats.texels);
 }
 
 // With the emitter lit by rays the texel value is Lambert's formula itself (nothing occludes it; the black
@@ -220,8 +229,10 @@ TEST(LightmapBaker, SeamsOnSmoothSurfacesAreStitched) {
     const UvAtlas atlas = unwrapScene(scene, unwrap);
     const std::vector<AtlasTexels> texels = computeTexels(scene, atlas);
     LightmapStats stats;
+    std::vector<std::pair<std::size_t, std::size_t>> progress;
     std::vector<LightmapImage> images =
-        bakeLightmaps(scene, bake, atlas, texels, rays, settings.lightmap, settings.solve, stats);
+        bakeLightmaps(scene, bake, atlas, texels, rays, settings.lightmap, settings.solve, stats,
+                      [&](std::size_t done, std::size_t total) { progress.emplace_back(done, total); });
     for (LightmapImage& image : images) dilate(image, 2);
     const SeamStats seams = stitchSeams(scene, atlas, images, true);
     std::printf("seam edges %zu, samples %zu, max step %.2f%% -> %.2f%%, mean %.2f%% -> %.2f%%\n", seams.seamEdges,

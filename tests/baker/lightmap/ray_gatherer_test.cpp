@@ -62,7 +62,7 @@ glm::dvec3 gatherOne(RayGatherer& g, const glm::dvec3& p, const glm::vec3& n, st
                      glm::vec3 sky = glm::vec3(0.0f), std::uint64_t* escaped = nullptr) {
     std::vector<glm::dvec3> out;
     std::vector<float> back;
-    const std::uint64_t skies = g.gather({GatherPoint{p, n}}, sky, sweep, out, &back);
+    const std::uint64_t skies = g.gather({GatherPoint{p, n}}, sky, sweep, out, &back).escaped;
     if (backface) *backface = back[0];
     if (escaped) *escaped = skies;
     return out[0];
@@ -73,7 +73,7 @@ glm::dvec3 gatherOne(RayGatherer& g, const glm::dvec3& p, const glm::vec3& n, st
 void expectFurnaceSeenFromEveryPoint(RayGatherer& g, const std::vector<GatherPoint>& points, const glm::vec3& radiance) {
     std::vector<glm::dvec3> out;
     std::vector<float> back;
-    EXPECT_EQ(g.gather(points, glm::vec3(1e6f), 1, out, &back), 0u);  // not one ray escapes
+    EXPECT_EQ(g.gather(points, glm::vec3(1e6f), 1, out, &back).escaped, 0u);  // not one ray escapes
     for (std::size_t k = 0; k < points.size(); ++k) {
         SCOPED_TRACE(k);
         EXPECT_NEAR(out[k].x, radiance.x, 1e-12);
@@ -270,4 +270,36 @@ TEST(RayGatherer, APointsRaysDependOnItsKeyNotItsPlaceInTheBatch) {
     EXPECT_NE(alone[0], batch[1]) << "another sweep draws other rays";
     const std::vector<std::uint32_t> tooFew = {1};
     EXPECT_THROW(g.gather({a, b}, glm::vec3(0.0f), 3, batch, nullptr, tooFew), std::invalid_argument);
+}
+
+// A point inside geometry stops after its probe (an 8 × 8 sub-lattice of its strata): above a single-sided disk that
+// faces down, a point looking down meets its back over F = r²/(r² + d²) of its cosine-weighted hemisphere (GROUND_TRUTH
+// §1(c)). At d = r/2 that is 0.8: the probe's 64 rays see more than half back faces and the point stops there. At
+// d = 2r (0.2, inside by the lightmap's tenth but not by the probe's half) and below the disk (no back at all) every
+// ray is traced, and the values are exactly those of a gather with no probe (no back-face share asked for).
+TEST(RayGatherer, PointsInsideGeometryStopAfterTheirProbe) {
+    const PatchMesh mesh = diskMesh(1.0, 1.0);  // radius 1 at z = 1, facing the origin
+    RayGatherer g(mesh, kRays, 11);
+    g.setElementRadiance(std::vector<glm::vec3>(mesh.elements.size(), glm::vec3(2.0f)));
+    const glm::vec3 sky(0.5f);
+    const std::vector<GatherPoint> points = {{{0, 0, 1.5}, {0, 0, -1}}, {{0, 0, 3}, {0, 0, -1}}, {{0, 0, 0}, {0, 0, 1}}};
+    std::vector<glm::dvec3> probed, plain;
+    std::vector<float> back;
+    const RayGatherer::RayCounts counts = g.gather(points, sky, 1, probed, &back);
+    const RayGatherer::RayCounts plainCounts = g.gather(points, sky, 1, plain, nullptr);
+    constexpr int kProbeRays = RayGatherer::kProbeStrataPerSide * RayGatherer::kProbeStrataPerSide;
+    EXPECT_EQ(counts.stoppedInside, 1u);
+    EXPECT_EQ(counts.traced, std::uint64_t(kProbeRays + 2 * kRays));
+    EXPECT_EQ(plainCounts.stoppedInside, 0u);
+    EXPECT_EQ(plainCounts.traced, std::uint64_t(3 * kRays));
+    // The stopped point: the probe's share of back faces, and the sky on the rest of its probe.
+    EXPECT_GT(back[0], RayGatherer::kInsideProbeBackFraction);
+    EXPECT_NEAR(back[0], 0.8, 0.1);
+    EXPECT_NEAR(probed[0].x, sky.x * (1.0 - back[0]), 1e-12);
+    // The others: every ray, the same sums.
+    EXPECT_NEAR(back[1], 0.2, 5.0 * diskSigmaBound(0.2));
+    EXPECT_EQ(back[2], 0.0f);
+    EXPECT_EQ(probed[1], plain[1]);
+    EXPECT_EQ(probed[2], plain[2]);
+    EXPECT_NEAR(probed[2].x, 2.0 * 0.5 + 0.5 * 0.5, 5.0 * 1.5 * diskSigmaBound(0.5));  // F = 1/2 of L = 2, the rest sky
 }
