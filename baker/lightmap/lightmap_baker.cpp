@@ -356,6 +356,7 @@ public:
                                                                    solve.solver.seed ^ 0x5EEDull)
                                    : std::make_unique<RayGatherer>(solved.mesh, raysPerTexel(settings, *solved.pool),
                                                                    solve.solver.seed ^ 0x5EEDull);
+            if (rayGatherer_) rayGatherer_->setInsideBackFraction(settings.invalidBackfaceFraction);
             show(radiance, std::move(light));
         }
     }

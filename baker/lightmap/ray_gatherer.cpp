@@ -59,7 +59,9 @@ RayGatherer::RayCounts RayGatherer::gather(const std::vector<GatherPoint>& point
     const std::uint64_t base = splitMix64(seed_ ^ splitMix64(sweep));
     const bool texelLightOn = texelLight_ && texelLight_->atlasSize > 0;
     // The probe: every stride-th stratum each way, traced first when back faces are asked for.
-    const int stride = backfaceFraction && strata_ >= 2 * kProbeStrataPerSide ? strata_ / kProbeStrataPerSide : 0;
+    const bool probed = backfaceFraction && strata_ >= 2 * kProbeStrataPerSide &&
+                        insideBackFraction_ <= kProbeMaxInsideBackFraction;
+    const int stride = probed ? strata_ / kProbeStrataPerSide : 0;
     std::vector<std::uint32_t> probe, rest;
     for (int sy = 0; sy < strata_ && stride; ++sy)
         for (int sx = 0; sx < strata_; ++sx)

@@ -47,14 +47,19 @@ public:
     // none). Not thread-safe against a running gather.
     void setElementRadiance(std::vector<glm::vec3> radiance);
     void setTexelLight(std::shared_ptr<const TexelLight> light);
+    // The share of back faces above which the caller calls a point inside geometry (the lightmap's
+    // LightmapSettings::invalidBackfaceFraction, typically 0.1; default 1: no point is inside, and none is probed).
+    // Points are probed only when it is at most kProbeMaxInsideBackFraction. Not thread-safe against a running gather.
+    void setInsideBackFraction(double fraction) { insideBackFraction_ = fraction; }
 
     // E/π at every point, in parallel over every core. A point's rays depend only on (`sweep`, its key): keys[k] for
     // point k (e.g. its texel index: a texel gets the same rays whatever else is gathered with it), or k when `keys`
     // is empty. `backfaceFraction`, if given, receives each point's share of rays that met the back of a single-sided
-    // surface, and lets a point inside geometry stop early: its probe (an 8 × 8 sub-lattice of its strata, 1/64 of
-    // its rays, traced first) meeting back faces on more than kInsideProbeBackFraction of its rays stops it, and its
-    // E/π and share are the probe's (its light is not used: the lightmap refills it from its neighbours). Every other
-    // point traces exactly the rays it would without the probe, summed in the same order. Returns what was traced.
+    // surface, and lets a point inside geometry stop early (when setInsideBackFraction allows): its probe (an 8 × 8
+    // sub-lattice of its strata, 1/64 of its rays, traced first) meeting back faces on more than
+    // kInsideProbeBackFraction of its rays stops it, and its E/π and share are the probe's (its light is not used:
+    // the lightmap refills it from its neighbours). Every other point traces exactly the rays it would without the
+    // probe, summed in the same order. Returns what was traced.
     // Throws std::invalid_argument if keys are given but not one per point.
     struct RayCounts {
         std::uint64_t traced = 0;         // rays traced
@@ -68,6 +73,10 @@ public:
     // inside geometry above a tenth (LightmapSettings::invalidBackfaceFraction); half a probe's 64 stratified rays is
     // far beyond any texel on the surface (a texel under an overlapping wall typically meets 90 % or more).
     static constexpr double kInsideProbeBackFraction = 0.5;
+    // Probes only where the caller's inside share is at most this. A point on the surface whose true share is at that
+    // bound meets back faces on more than half of 64 rays with a binomial chance of 2e-8 (6.2 σ; less, stratified);
+    // at the lightmap's 0.1, 8e-17.
+    static constexpr double kProbeMaxInsideBackFraction = 0.2;
     // Probes need at least this many strata a side (8 × 8 rays of a 16 × 16 point and more).
     static constexpr int kProbeStrataPerSide = 8;
     int raysPerPoint() const { return strata_ * strata_; }
@@ -77,6 +86,7 @@ private:
 
     int strata_ = 1;
     std::uint64_t seed_ = 0;
+    double insideBackFraction_ = 1.0;
     std::unique_ptr<ElementRayScene> ownScene_;  // when built here
     const ElementRayScene* scene_ = nullptr;
     std::vector<glm::vec3> radiance_;

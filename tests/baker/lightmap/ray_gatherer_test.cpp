@@ -281,6 +281,7 @@ TEST(RayGatherer, PointsInsideGeometryStopAfterTheirProbe) {
     const PatchMesh mesh = diskMesh(1.0, 1.0);  // radius 1 at z = 1, facing the origin
     RayGatherer g(mesh, kRays, 11);
     g.setElementRadiance(std::vector<glm::vec3>(mesh.elements.size(), glm::vec3(2.0f)));
+    g.setInsideBackFraction(0.1);  // the lightmap's default
     const glm::vec3 sky(0.5f);
     const std::vector<GatherPoint> points = {{{0, 0, 1.5}, {0, 0, -1}}, {{0, 0, 3}, {0, 0, -1}}, {{0, 0, 0}, {0, 0, 1}}};
     std::vector<glm::dvec3> probed, plain;
@@ -302,4 +303,16 @@ TEST(RayGatherer, PointsInsideGeometryStopAfterTheirProbe) {
     EXPECT_EQ(probed[1], plain[1]);
     EXPECT_EQ(probed[2], plain[2]);
     EXPECT_NEAR(probed[2].x, 2.0 * 0.5 + 0.5 * 0.5, 5.0 * 1.5 * diskSigmaBound(0.5));  // F = 1/2 of L = 2, the rest sky
+
+    // A caller whose inside share is close to the probe's half (or no share set: nothing is inside) probes nothing:
+    // a point on the surface near that share could pass half of 64 rays by chance. Every ray is traced.
+    for (const double inside : {0.25, 1.0}) {
+        g.setInsideBackFraction(inside);
+        std::vector<glm::dvec3> unprobed;
+        const RayGatherer::RayCounts all = g.gather(points, sky, 1, unprobed, &back);
+        EXPECT_EQ(all.stoppedInside, 0u);
+        EXPECT_EQ(all.traced, std::uint64_t(3 * kRays));
+        EXPECT_EQ(unprobed[0], plain[0]);
+        EXPECT_NEAR(back[0], 0.8, 5.0 * diskSigmaBound(0.8));
+    }
 }
