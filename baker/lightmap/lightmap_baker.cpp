@@ -97,6 +97,7 @@ private:
         }
         const bool oddX = (x / step) % 2 == 1, oddY = (y / step) % 2 == 1;
         if ((oddX != oddY) != (phase == Phase::EdgeMidpoints)) return;
+        missing_ = Missing::None;
         Estimate e = phase == Phase::EdgeMidpoints ? edgeMidpoint(i, step, oddX, oddY) : cellCentre(i, step);
         // The tolerance is relative to what the texel will hold: the gathered light plus the direct light added
         // by rays afterwards (a faint bounce beside a bright direct term needs no hemicube).
@@ -112,17 +113,26 @@ private:
         } else {
             batch_.push_back(std::uint32_t(i));
             ++(e.ok ? stats_.renderedDisagreeing : stats_.renderedUnsupported);
+            if (!e.ok) {
+                LightmapStats::UnsupportedBy& by = stats_.renderedUnsupportedBy;
+                ++(missing_ == Missing::Inside ? by.insideGeometry : missing_ == Missing::OutOfSight ? by.outOfSight : by.chartEdge);
+            }
         }
     }
 
     // The value of a finished, valid neighbour on the same piece of surface and in sight of the texel (a wall
     // standing on the surface between them hides one from the other), if there is one.
+    // The first missing one is recorded in missing_ (why the texel had to be gathered).
     bool neighbour(std::size_t i, int dx, int dy, int step, glm::dvec3& v) const {
         const double reach = 1.5 * std::sqrt(2.0) * step * texelSizeM_;  // world distance of a lattice neighbour
         const std::int32_t j = grid_.find(t_.x[i] + dx, t_.y[i] + dy);
-        if (j < 0 || !done_[std::size_t(j)] || (*invalid_)[std::size_t(j)] || !continuous(t_, i, std::size_t(j), 3.0 * reach) ||
-            !inSight(i, std::size_t(j)))
+        const auto missing = [this](Missing why) {
+            if (missing_ == Missing::None) missing_ = why;
             return false;
+        };
+        if (j < 0 || !done_[std::size_t(j)] || !continuous(t_, i, std::size_t(j), 3.0 * reach)) return missing(Missing::ChartEdge);
+        if ((*invalid_)[std::size_t(j)]) return missing(Missing::Inside);
+        if (!inSight(i, std::size_t(j))) return missing(Missing::OutOfSight);
         v = (*value_)[std::size_t(j)];
         return true;
     }
@@ -221,6 +231,8 @@ private:
     std::vector<std::uint32_t> batch_;
     std::vector<glm::dvec3> gathered_;
     std::vector<float> backface_;
+    enum class Missing { None, ChartEdge, Inside, OutOfSight };
+    mutable Missing missing_ = Missing::None;  // the first neighbour the texel being visited lacked
     std::size_t finished_ = 0;  // texels finished (gathered or interpolated) since progress was last reported
 };
 

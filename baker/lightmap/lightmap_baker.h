@@ -27,6 +27,11 @@ struct LightmapStats {
     std::size_t renderedLattice = 0;      // on the coarse lattice (1 in latticeStep² texels)
     std::size_t renderedUnsupported = 0;  // a neighbour interpolation needs is off the chart, out of sight or inside
     std::size_t renderedDisagreeing = 0;  // the neighbours were there but disagreed beyond the tolerance
+    // The unsupported ones by the first neighbour found missing: off the chart (its edge, or another piece of surface
+    // beside it in the atlas), inside geometry (a wall's foot), or out of sight (something stands between them).
+    struct UnsupportedBy {
+        std::size_t chartEdge = 0, insideGeometry = 0, outOfSight = 0;
+    } renderedUnsupportedBy;
     std::size_t interpolated = 0;  // texels interpolated from agreeing lattice neighbours
     std::size_t invalid = 0;       // texels inside geometry (mostly back faces seen), refilled from neighbours
     std::size_t dilated = 0;       // padding texels filled (by dilate(), before seam stitching)

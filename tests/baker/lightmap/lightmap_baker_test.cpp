@@ -102,6 +102,10 @@ TEST(LightmapBaker, EmitterOverSquareMatchesContourFormula) {
     EXPECT_EQ(r.stats.renderedLattice + r.stats.renderedUnsupported + r.stats.renderedDisagreeing, r.stats.rendered);
     EXPECT_EQ(r.stats.renderedLattice, r.latticeTexels);
     EXPECT_GT(r.stats.renderedUnsupported, 0u);  // the charts' edges, where a lattice neighbour is off the chart
+    // A bare floor under a lamp: nothing stands on it and nothing overlaps it, so every unsupported texel is at a
+    // chart's edge.
+    EXPECT_EQ(r.stats.renderedUnsupportedBy.chartEdge, r.stats.renderedUnsupported);
+    EXPECT_EQ(r.stats.renderedUnsupportedBy.insideGeometry + r.stats.renderedUnsupportedBy.outOfSight, 0u);
     // Progress counts texels finished, gathered or interpolated: it rises to every texel and ends there (it counted
     // gathered texels only, and a level's bake stopped at a third of its total while looking a third done).
     ASSERT_FALSE(r.progress.empty());
@@ -172,6 +176,10 @@ TEST(LightmapBaker, NoTexelIsInterpolatedAcrossAWallStandingOnItsSurface) {
     EXPECT_LT(litWorst, 0.01);
     EXPECT_EQ(darkMax, 0.0);
     EXPECT_LT(stats.renderedFraction(), 0.6);  // smooth light on either side is still interpolated
+    // Texels beside the wall were gathered because it hid their neighbours (and some because those were under it).
+    const LightmapStats::UnsupportedBy& by = stats.renderedUnsupportedBy;
+    EXPECT_EQ(by.chartEdge + by.insideGeometry + by.outOfSight, stats.renderedUnsupported);
+    EXPECT_GT(by.outOfSight + by.insideGeometry, 0u);
 }
 
 TEST(LightmapBaker, DilationFillsOnlyPaddingNextToCharts) {
