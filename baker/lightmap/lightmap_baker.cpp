@@ -362,13 +362,14 @@ public:
                                        stats.texelDirect);
                 stats.seconds.texelLight = texelLightClock.seconds();
             }
-            if (settings.finalGather == FinalGather::Rays)
+            if (settings.finalGather == FinalGather::Rays) {
                 rayGatherer_ = solved.elementRays
                                    ? std::make_unique<RayGatherer>(*solved.elementRays, raysPerTexel(settings, *solved.pool),
                                                                    solve.solver.seed ^ 0x5EEDull)
                                    : std::make_unique<RayGatherer>(solved.mesh, raysPerTexel(settings, *solved.pool),
                                                                    solve.solver.seed ^ 0x5EEDull);
-            if (rayGatherer_) rayGatherer_->setInsideBackFraction(settings.invalidBackfaceFraction);
+                rayGatherer_->setInsideBackFraction(settings.invalidBackfaceFraction);
+            }
             show(radiance, std::move(light));
         }
     }

@@ -122,25 +122,24 @@ RayGatherer::RayCounts RayGatherer::gather(const std::vector<GatherPoint>& point
                     if (texelLightOn) sum += texelLightAt(hit.element, hit.b1, hit.b2);
                 }
             };
+            bool inside = false;
             if (stride) {
                 traceSubset(local, origin, probe);
                 const auto probeBacks = std::count_if(probe.begin(), probe.end(), [&](std::uint32_t stratum) {
                     return local.hits[stratum].kind == ElementHit::Kind::Back;
                 });
-                const bool inside = double(probeBacks) > kInsideProbeBackFraction * double(probe.size());
-                if (inside) {
-                    for (const std::uint32_t stratum : probe) add(local.hits[stratum]);
-                } else {
-                    traceSubset(local, origin, rest);
-                    for (const ElementHit& hit : local.hits) add(hit);
-                }
-                local.counts.traced += seen;
-                local.counts.stoppedInside += inside;
+                inside = double(probeBacks) > kInsideProbeBackFraction * double(probe.size());
+                if (!inside) traceSubset(local, origin, rest);
             } else {
                 scene_->trace(origin, local.dirs, local.hits);
-                for (const ElementHit& hit : local.hits) add(hit);
-                local.counts.traced += seen;
             }
+            if (inside) {
+                for (const std::uint32_t stratum : probe) add(local.hits[stratum]);
+            } else {
+                for (const ElementHit& hit : local.hits) add(hit);
+            }
+            local.counts.traced += seen;
+            local.counts.stoppedInside += inside;
             irradianceOverPi[i] = sum / double(seen);
             if (backfaceFraction) (*backfaceFraction)[i] = float(double(backs) / double(seen));
             local.counts.escaped += skies;

@@ -52,6 +52,13 @@ public:
     // Points are probed only when it is at most kProbeMaxInsideBackFraction. Not thread-safe against a running gather.
     void setInsideBackFraction(double fraction) { insideBackFraction_ = fraction; }
 
+    // What one gather traced.
+    struct RayCounts {
+        std::uint64_t traced = 0;         // rays traced
+        std::uint64_t escaped = 0;        // of those, rays that met no surface (the sky's): what openings let out
+        std::uint64_t stoppedInside = 0;  // points stopped after their probe (inside geometry)
+    };
+
     // E/π at every point, in parallel over every core. A point's rays depend only on (`sweep`, its key): keys[k] for
     // point k (e.g. its texel index: a texel gets the same rays whatever else is gathered with it), or k when `keys`
     // is empty. `backfaceFraction`, if given, receives each point's share of rays that met the back of a single-sided
@@ -61,11 +68,6 @@ public:
     // the lightmap refills it from its neighbours). Every other point traces exactly the rays it would without the
     // probe, summed in the same order. Returns what was traced.
     // Throws std::invalid_argument if keys are given but not one per point.
-    struct RayCounts {
-        std::uint64_t traced = 0;         // rays traced
-        std::uint64_t escaped = 0;        // of those, rays that met no surface (the sky's): what openings let out
-        std::uint64_t stoppedInside = 0;  // points stopped after their probe (inside geometry)
-    };
     RayCounts gather(const std::vector<GatherPoint>& points, glm::vec3 skyRadiance, std::uint64_t sweep,
                      std::vector<glm::dvec3>& irradianceOverPi, std::vector<float>* backfaceFraction = nullptr,
                      std::span<const std::uint32_t> keys = {}) const;

@@ -237,10 +237,8 @@ TEST(LightmapBaker, SeamsOnSmoothSurfacesAreStitched) {
     const UvAtlas atlas = unwrapScene(scene, unwrap);
     const std::vector<AtlasTexels> texels = computeTexels(scene, atlas);
     LightmapStats stats;
-    std::vector<std::pair<std::size_t, std::size_t>> progress;
     std::vector<LightmapImage> images =
-        bakeLightmaps(scene, bake, atlas, texels, rays, settings.lightmap, settings.solve, stats,
-                      [&](std::size_t done, std::size_t total) { progress.emplace_back(done, total); });
+        bakeLightmaps(scene, bake, atlas, texels, rays, settings.lightmap, settings.solve, stats);
     for (LightmapImage& image : images) dilate(image, 2);
     const SeamStats seams = stitchSeams(scene, atlas, images, true);
     std::printf("seam edges %zu, samples %zu, max step %.2f%% -> %.2f%%, mean %.2f%% -> %.2f%%\n", seams.seamEdges,
