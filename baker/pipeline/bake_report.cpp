@@ -21,6 +21,9 @@ nlohmann::json convergenceJson(const SolveReport& solve) {
         history.push_back({{"shots", r.shots}, {"seconds", r.seconds}, {"unshotFraction", r.unshotFraction},
                            {"errorBound", r.errorBound}});
         if (r.localBound >= 0.0 && std::isfinite(r.localBound)) history.back()["localBound"] = r.localBound;
+        if (r.localRound > 0)
+            history.back()["localRound"] = {{"round", r.localRound}, {"patches", r.localRoundPatches},
+                                            {"shots", r.localRoundShots}, {"neverShotPatches", r.localNeverShotPatches}};
     }
     return {{"stopReason", solve.stopReason},
             {"shots", solve.shots},

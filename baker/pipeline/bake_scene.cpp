@@ -31,6 +31,19 @@ std::string percent(double fraction) {
     return buf;
 }
 
+// A wall time for a person: "42 s", "3 min 05 s", "1 h 02 min".
+std::string duration(double seconds) {
+    const long s = std::lround(std::max(seconds, 0.0));
+    char buf[48];
+    if (s < 60)
+        std::snprintf(buf, sizeof buf, "%ld s", s);
+    else if (s < 3600)
+        std::snprintf(buf, sizeof buf, "%ld min %02ld s", s / 60, s % 60);
+    else
+        std::snprintf(buf, sizeof buf, "%ld h %02ld min", s / 3600, (s % 3600) / 60);
+    return buf;
+}
+
 // The stages in order; each step fills its part of the result and times itself (timings do not overlap).
 class Pipeline {
 public:
@@ -101,11 +114,19 @@ private:
         const SolveSettings& s = result_.report.settings.solve;
         result_.solved = solveScene(scene_, s, rays, [&](const std::string& stage, const ConvergenceRecord& r) {
             std::string line = stage + ": ";
-            if (stage == "shoot" && r.localBound >= 0.0)
-                line += std::to_string(r.shots) + " shots, local phase: worst element still to receive " +
-                        (std::isfinite(r.localBound) ? percent(r.localBound) : std::string("an unknown part")) +
-                        " of its light (stop at " + percent(s.solver.epsilon) + ")";
-            else if (stage == "shoot")
+            if (stage == "shoot" && r.localBound >= 0.0) {
+                // Rounds shrink as the phase goes. The worst element's bound is ∞ while a lit patch has never shot
+                // (nothing is known of where its light goes), and can be huge for an element lit by a sliver: shown
+                // only once it is a figure a person can compare with the stop rule.
+                line += std::to_string(r.shots) + " shots, local round " + std::to_string(r.localRound) + ": " +
+                        std::to_string(std::min<std::uint64_t>(r.localRoundShots, r.localRoundPatches)) + " / " +
+                        std::to_string(r.localRoundPatches) + " patches shot";
+                if (r.localNeverShotPatches > 0)
+                    line += " (" + std::to_string(r.localNeverShotPatches) + " never shot before)";
+                else if (std::isfinite(r.localBound) && r.localBound <= 10.0)
+                    line += ", worst element " + percent(r.localBound) + " from its light (stop at " +
+                            percent(s.solver.epsilon) + ")";
+            } else if (stage == "shoot")
                 line += std::to_string(r.shots) + " shots, unshot " + percent(r.unshotFraction) + " of injected (bulk until " +
                         percent(s.solver.epsilon) + ")";
             else
@@ -173,10 +194,19 @@ private:
             solved.pool = std::make_unique<HemicubePool>(solved.mesh, gatherResolution);
             drawnBefore = {};
         }
+        // The time left at the rate so far: texels interpolated between gathers finish faster than gathered ones,
+        // so within one atlas the estimate starts high; over several atlases it settles.
+        const Stopwatch lightmapClock;
         result_.lightmaps = bakeLightmaps(scene_, solved, result_.atlas, result_.texels, rays, s.lightmap, s.solve,
                                           lm.stats, [&](std::size_t doneTexels, std::size_t total) {
-                                              update("lightmaps: " + std::to_string(doneTexels) + " / " +
-                                                     std::to_string(total) + " texels");
+                                              const double elapsed = lightmapClock.seconds();
+                                              std::string line = "lightmaps: " + std::to_string(doneTexels) + " / " +
+                                                                 std::to_string(total) + " texels, " + duration(elapsed);
+                                              if (doneTexels > 0 && doneTexels < total && elapsed >= 1.0)
+                                                  line += ", about " +
+                                                          duration(elapsed * double(total - doneTexels) / double(doneTexels)) +
+                                                          " left";
+                                              update(line);
                                           });
         if (solved.pool) {
             HemicubeDrawTotals gather = solved.pool->drawTotals();

@@ -16,6 +16,13 @@ struct ConvergenceRecord {
     // In the local phase (after the bulk), the worst element's bound (ProgressiveShooter::localBound: light
     // still to arrive there over what it has); −1 before it.
     double localBound = -1.0;
+    // In the local phase (0 before it): its round (1, 2, …: each evaluates the bound and shoots the patches that hold
+    // it open), the round's patches and how many it has shot, and of those the patches that had never shot (while
+    // any is left the worst bound is ∞: nothing is known of where its light goes). The progress a person can follow.
+    std::uint64_t localRound = 0;
+    std::size_t localRoundPatches = 0;
+    std::uint64_t localRoundShots = 0;
+    std::size_t localNeverShotPatches = 0;
 };
 
 class ConvergenceHistory {

@@ -805,7 +805,10 @@ ProgressiveShooter::LocalBound ProgressiveShooter::localBound(double epsilon, bo
     }
     for (double r : relative) bound.max = std::max(bound.max, r);
     for (std::uint32_t p : unshot)
-        if (!shotOnce_[p]) bound.max = std::numeric_limits<double>::infinity();
+        if (!shotOnce_[p]) {
+            bound.max = std::numeric_limits<double>::infinity();
+            ++bound.neverShotPatches;
+        }
     // The area-weighted median and p95 are reported, not used to decide: sorted only for a bound that may be the
     // last (a level's 40-odd rounds sorted every element each time).
     if (quantiles || bound.max <= epsilon) {
@@ -913,6 +916,7 @@ std::string ProgressiveShooter::run(ConvergenceHistory& history, const Progress&
     std::vector<Shot> shots(batch);
     std::uint64_t shotSeed = settings_.seed * 0x9E3779B97F4A7C15ull;
     bool localPhase = false;
+    std::uint64_t roundFirstShot = 0;  // the ledger's shots when the local round began
 
     auto record = [&](bool force) {
         const double seconds = startSeconds + clock.seconds();
@@ -923,6 +927,12 @@ std::string ProgressiveShooter::run(ConvergenceHistory& history, const Progress&
         r.unshotFraction = injected > 0.0 ? queue_.totalPower() / injected : 0.0;
         r.errorBound = exitanceErrorBound(queue_.totalPower(), exitanceW_, maxReflectance_);
         r.localBound = localPhase ? finalBound_.max : -1.0;
+        if (localPhase) {
+            r.localRound = ledger_.localRounds;
+            r.localRoundPatches = finalBound_.worstPatches.size();
+            r.localRoundShots = ledger_.shots - roundFirstShot;
+            r.localNeverShotPatches = finalBound_.neverShotPatches;
+        }
         history.add(r);
         if (progress) progress(r);
     };
@@ -963,6 +973,7 @@ std::string ProgressiveShooter::run(ConvergenceHistory& history, const Progress&
         ledger_.localBoundSeconds += boundClock.seconds();
         ++ledger_.localRounds;
         localPhase = true;
+        roundFirstShot = ledger_.shots;
         if (finalBound_.max <= settings_.epsilon) { reason = "converged"; break; }
         if (const char* l = limit()) { reason = l; break; }
         // In the order of their share of the bound, not along the Z-curve: that order saved 6 % a ray on 30 copies

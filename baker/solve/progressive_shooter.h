@@ -73,6 +73,7 @@ public:
     struct LocalBound {
         double max = 0.0, p95 = 0.0, median = 0.0;  // over elements, area-weighted
         std::size_t unknownPatches = 0;              // unshot patches without a row
+        std::size_t neverShotPatches = 0;            // unshot patches that have never shot (each holds max at ∞)
         std::vector<std::uint32_t> worstPatches;     // what to shoot next: its own share of the worst bound first
     };
     // `quantiles` false: median and p95 stay 0 unless max ≤ epsilon (they need a sort of every element; the

@@ -48,6 +48,18 @@ TEST(CliBake, CornellWritesReportWithConvergenceHistory) {
     EXPECT_LE(history.back()["localBound"].get<double>(), 0.02);
     EXPECT_DOUBLE_EQ(history.back()["localBound"].get<double>(), j["convergence"]["localBound"]["max"].get<double>());
     EXPECT_FALSE(history.front().contains("localBound"));
+    // The local rounds count up to the solve's; the last record is the bound it stopped on, where no lit patch is left
+    // unshot and nothing is left to shoot.
+    ASSERT_TRUE(history.back().contains("localRound")) << history.back();
+    std::uint64_t lastRound = 0;
+    for (const auto& record : history)
+        if (record.contains("localRound")) {
+            EXPECT_GE(record["localRound"]["round"].get<std::uint64_t>(), std::max<std::uint64_t>(lastRound, 1));
+            lastRound = record["localRound"]["round"].get<std::uint64_t>();
+        }
+    EXPECT_EQ(lastRound, j["convergence"]["localRounds"].get<std::uint64_t>());
+    EXPECT_EQ(history.back()["localRound"]["neverShotPatches"], 0);
+    EXPECT_EQ(history.back()["localRound"]["patches"], 0);
     // Power ledger: every emitted watt is absorbed, escaped through the open front, or still unshot.
     for (int c = 0; c < 3; ++c) {
         const double in_ = j["power"]["emittedW"][c].get<double>() + j["power"]["directW"][c].get<double>();

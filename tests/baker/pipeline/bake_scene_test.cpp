@@ -177,6 +177,42 @@ TEST(BakeScene, ProgressCanCancel) {
     EXPECT_EQ(events, 3);
 }
 
+// What a person watching a bake reads: the local phase's rounds, each shot to its end, and the lightmap's texels
+// counted to their total with the time left while any remain.
+TEST(BakeScene, ProgressCountsRoundsAndTexelsToTheirEnds) {
+    const Scene scene = twoSealedRooms();
+    BakeSettings settings = presetSettings("draft", scene.bounds().diagonal());
+    settings.lightmap.texelsPerUnit = 8;
+    std::vector<std::string> updates;
+    const BakeResult result = bakeScene(scene, settings, BakeOutput{}, [&](const BakeProgressEvent& e) {
+        if (e.kind == BakeProgressEvent::Kind::Update) updates.push_back(e.message);
+        return true;
+    });
+    unsigned long lastRound = 0, rounds = 0, lastTexels = 0, texelLines = 0;
+    for (const std::string& line : updates) {
+        unsigned long shots, round, shot, patches, done, total;
+        if (std::sscanf(line.c_str(), "shoot: %lu shots, local round %lu: %lu / %lu patches shot", &shots, &round, &shot,
+                        &patches) == 4) {
+            ++rounds;
+            EXPECT_GE(round, lastRound) << line;
+            EXPECT_LE(shot, patches) << line;
+            lastRound = round;
+        } else if (std::sscanf(line.c_str(), "lightmaps: %lu / %lu texels", &done, &total) == 2) {
+            ++texelLines;
+            EXPECT_GE(done, lastTexels) << line;
+            EXPECT_LE(done, total) << line;
+            // "about … left" only while texels remain.
+            if (done == total) EXPECT_EQ(line.find(" left"), std::string::npos) << line;
+            lastTexels = done;
+            EXPECT_EQ(total, result.report.lightmap->stats.texels);
+        }
+    }
+    EXPECT_GT(rounds, 0u);
+    EXPECT_LE(lastRound, result.report.solve.localRounds);
+    EXPECT_GT(texelLines, 0u);
+    EXPECT_EQ(lastTexels, result.report.lightmap->stats.texels);
+}
+
 TEST(BakeSettingsJson, EveryKnobRoundTrips) {
     BakeSettings s = presetSettings("high", 7.0);
     s.solve.solver.epsilon = 0.0123;
