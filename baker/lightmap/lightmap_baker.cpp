@@ -319,7 +319,14 @@ std::size_t dilate(LightmapImage& image, int iterations) {
     return filled;
 }
 
+const char* lightmapPhaseName(LightmapPhase phase) {
+    return phase == LightmapPhase::DirectLight ? "direct light" : "texels";
+}
+
 namespace {
+
+// Direct light is computed and reported in slices of this many texels (a second or two on a level).
+constexpr std::size_t kDirectSliceTexels = 1 << 16;
 
 // What every atlas's texels are computed from: the solved elements as the gather and the interpolation see them,
 // and the ray-traced direct light.
@@ -327,7 +334,7 @@ class TexelSolver {
 public:
     TexelSolver(const Scene& scene, const SolvedScene& solved, const EmbreeScene& rays, const LightmapSettings& settings,
                 const SolveSettings& solve, const UvAtlas& atlas, const std::vector<AtlasTexels>& texels,
-                LightmapStats& stats)
+                LightmapStats& stats, const LightmapProgress& progress)
         : scene_(scene), solved_(solved), atlas_(atlas), settings_(settings), solve_(solve),
           // Ray-traced direct light at every texel: punctual lights, and emitters when the solver ray traced them
           // (its decision, in its report); the gather then sees emitters without their emission.
@@ -342,10 +349,17 @@ public:
             // Direct light at every texel of every atlas first: the gathers of one atlas see the others' texels.
             const Stopwatch directClock;
             directValue_.resize(texels.size());
+            std::size_t total = 0, done = 0;
+            for (const AtlasTexels& t : texels) total += t.count();
             for (std::size_t a = 0; a < texels.size(); ++a) {
                 directValue_[a].resize(texels[a].count());
-                tbb::parallel_for(std::size_t(0), texels[a].count(),
-                                  [&](std::size_t i) { directValue_[a][i] = directAt(a, texels[a], i); });
+                // In slices, reporting after each: on a level at 16 texels/m this is minutes of shadow rays.
+                for (std::size_t first = 0; first < texels[a].count(); first += kDirectSliceTexels) {
+                    const std::size_t last = std::min(texels[a].count(), first + kDirectSliceTexels);
+                    tbb::parallel_for(first, last, [&](std::size_t i) { directValue_[a][i] = directAt(a, texels[a], i); });
+                    done += last - first;
+                    if (progress) progress(LightmapPhase::DirectLight, done, total);
+                }
             }
             stats.seconds.direct = directClock.seconds();
         }
@@ -559,7 +573,7 @@ std::vector<LightmapImage> bakeLightmaps(const Scene& scene, const SolvedScene& 
     stats.texels = total;
     const double texelSizeM = atlas.texelsPerUnit > 0.0 ? 1.0 / atlas.texelsPerUnit : 0.0;
     Stopwatch clock;
-    TexelSolver solver(scene, solved, rays, settings, solve, atlas, texels, stats);
+    TexelSolver solver(scene, solved, rays, settings, solve, atlas, texels, stats, progress);
     stats.seconds.setup = std::max(0.0, clock.lap() - stats.seconds.direct - stats.seconds.texelLight);
     std::vector<std::vector<glm::dvec3>> values(texels.size());
     std::vector<std::vector<std::uint8_t>> inside(texels.size());
@@ -567,12 +581,12 @@ std::vector<LightmapImage> bakeLightmaps(const Scene& scene, const SolvedScene& 
         if (settings.mode == TexelMode::Gather) {
             values[a] = solver.gathered(a, texels[a], texelSizeM, stats, [&](std::size_t k) {
                 done += k;
-                if (progress) progress(done, total);
+                if (progress) progress(LightmapPhase::Texels, done, total);
             }, inside[a]);
         } else {
             values[a] = solver.interpolated(a, texels[a]);
             done += texels[a].count();
-            if (progress) progress(done, total);
+            if (progress) progress(LightmapPhase::Texels, done, total);
         }
     }
     clock.lap();

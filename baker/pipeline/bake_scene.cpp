@@ -194,20 +194,26 @@ private:
             solved.pool = std::make_unique<HemicubePool>(solved.mesh, gatherResolution);
             drawnBefore = {};
         }
-        // The time left at the rate so far: texels interpolated between gathers finish faster than gathered ones,
-        // so within one atlas the estimate starts high; over several atlases it settles.
+        // The time left in each phase at its rate since its first report. Texels interpolated between gathers finish
+        // faster than gathered ones, so within one atlas the estimate starts high; over several atlases it settles.
+        struct PhaseClock {
+            LightmapPhase phase{};
+            std::size_t firstDone = 0;
+            double firstSeconds = -1.0;
+        } phaseClock;
         const Stopwatch lightmapClock;
+        const auto report = [&](LightmapPhase phase, std::size_t doneTexels, std::size_t total) {
+            const double now = lightmapClock.seconds();
+            if (phaseClock.firstSeconds < 0.0 || phaseClock.phase != phase) phaseClock = {phase, doneTexels, now};
+            std::string line = std::string("lightmaps: ") + (phase == LightmapPhase::DirectLight ? "direct light, " : "") +
+                               std::to_string(doneTexels) + " / " + std::to_string(total) + " texels, " + duration(now);
+            const double rate = double(doneTexels - phaseClock.firstDone) / std::max(now - phaseClock.firstSeconds, 1e-9);
+            if (doneTexels < total && now - phaseClock.firstSeconds >= 1.0 && rate > 0.0)
+                line += ", about " + duration(double(total - doneTexels) / rate) + " left";
+            update(line);
+        };
         result_.lightmaps = bakeLightmaps(scene_, solved, result_.atlas, result_.texels, rays, s.lightmap, s.solve,
-                                          lm.stats, [&](std::size_t doneTexels, std::size_t total) {
-                                              const double elapsed = lightmapClock.seconds();
-                                              std::string line = "lightmaps: " + std::to_string(doneTexels) + " / " +
-                                                                 std::to_string(total) + " texels, " + duration(elapsed);
-                                              if (doneTexels > 0 && doneTexels < total && elapsed >= 1.0)
-                                                  line += ", about " +
-                                                          duration(elapsed * double(total - doneTexels) / double(doneTexels)) +
-                                                          " left";
-                                              update(line);
-                                          });
+                                          lm.stats, report);
         if (solved.pool) {
             HemicubeDrawTotals gather = solved.pool->drawTotals();
             gather -= drawnBefore;

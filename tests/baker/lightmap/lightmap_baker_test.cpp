@@ -35,7 +35,8 @@ struct EmitterOverSquareResult {
     std::size_t texels = 0;
     LightmapStats stats;
     std::size_t latticeTexels = 0;  // texels on the coarse lattice (x and y multiples of latticeStep)
-    std::vector<std::pair<std::size_t, std::size_t>> progress;  // (done, total) as bakeLightmaps reported it
+    std::vector<std::pair<std::size_t, std::size_t>> progress;  // (done, total) of the texels, as bakeLightmaps reported it
+    std::vector<std::pair<std::size_t, std::size_t>> directProgress;  // the same for direct light
 };
 
 EmitterOverSquareResult bakeEmitterOverSquare(EmitterLighting emitters) {
@@ -63,10 +64,14 @@ EmitterOverSquareResult bakeEmitterOverSquare(EmitterLighting emitters) {
     const UvAtlas atlas = unwrapScene(scene, unwrap);
     const std::vector<AtlasTexels> texels = computeTexels(scene, atlas);
     LightmapStats stats;
-    std::vector<std::pair<std::size_t, std::size_t>> progress;
+    std::vector<std::pair<std::size_t, std::size_t>> progress, directProgress;
     std::vector<LightmapImage> images =
         bakeLightmaps(scene, bake, atlas, texels, rays, settings.lightmap, settings.solve, stats,
-                      [&](std::size_t done, std::size_t total) { progress.emplace_back(done, total); });
+                      [&](LightmapPhase phase, std::size_t done, std::size_t total) {
+                          // Direct light comes first, then the texels.
+                          if (phase == LightmapPhase::DirectLight) EXPECT_TRUE(progress.empty());
+                          (phase == LightmapPhase::DirectLight ? directProgress : progress).emplace_back(done, total);
+                      });
     for (LightmapImage& image : images) dilate(image, 2);
 
     double maxRel = 0.0, meanRel = 0.0;
@@ -88,7 +93,8 @@ EmitterOverSquareResult bakeEmitterOverSquare(EmitterLighting emitters) {
     for (const AtlasTexels& t : texels)
         for (std::size_t i = 0; i < t.count(); ++i)
             lattice += t.x[i] % settings.lightmap.latticeStep == 0 && t.y[i] % settings.lightmap.latticeStep == 0;
-    return {maxRel, meanRel / double(std::max<std::size_t>(n, 1)), stats.renderedFraction(), n, stats, lattice, progress};
+    return {maxRel, meanRel / double(std::max<std::size_t>(n, 1)), stats.renderedFraction(), n, stats, lattice, progress,
+            directProgress};
 }
 
 }  // namespace
@@ -112,6 +118,7 @@ TEST(LightmapBaker, EmitterOverSquareMatchesContourFormula) {
     for (std::size_t k = 1; k < r.progress.size(); ++k) EXPECT_GE(r.progress[k].first, r.progress[k - 1].first);
     EXPECT_EQ(r.progress.back().first, r.progress.back().second);
     EXPECT_EQ(r.progress.back().second, r.stats.texels);
+    EXPECT_TRUE(r.directProgress.empty());  // the emitter shoots its light: nothing is traced per texel
 }
 
 // With the emitter lit by rays the texel value is Lambert's formula itself (nothing occludes it; the black
@@ -120,6 +127,13 @@ TEST(LightmapBaker, EmitterOverSquareWithRayTracedEmitterIsExact) {
     const EmitterOverSquareResult r = bakeEmitterOverSquare(EmitterLighting::Rays);
     ASSERT_GT(r.texels, 500u);
     EXPECT_LT(r.maxRel, 1e-5);
+    // The lamp's direct light is traced at every texel before any texel is finished (checked where the progress is
+    // collected), and reported rising to every texel.
+    ASSERT_FALSE(r.directProgress.empty());
+    for (std::size_t k = 1; k < r.directProgress.size(); ++k)
+        EXPECT_GT(r.directProgress[k].first, r.directProgress[k - 1].first);
+    EXPECT_EQ(r.directProgress.back().first, r.stats.texels);
+    EXPECT_EQ(r.directProgress.back().second, r.stats.texels);
 }
 
 

@@ -188,10 +188,17 @@ TEST(BakeScene, ProgressCountsRoundsAndTexelsToTheirEnds) {
         if (e.kind == BakeProgressEvent::Kind::Update) updates.push_back(e.message);
         return true;
     });
-    unsigned long lastRound = 0, rounds = 0, lastTexels = 0, texelLines = 0;
+    unsigned long lastRound = 0, rounds = 0, lastTexels = 0, texelLines = 0, lastDirect = 0, directLines = 0;
     for (const std::string& line : updates) {
         unsigned long shots, round, shot, patches, done, total;
-        if (std::sscanf(line.c_str(), "shoot: %lu shots, local round %lu: %lu / %lu patches shot", &shots, &round, &shot,
+        if (std::sscanf(line.c_str(), "lightmaps: direct light, %lu / %lu texels", &done, &total) == 2) {
+            // The panel's light, traced at every texel before any texel is finished.
+            ++directLines;
+            EXPECT_EQ(texelLines, 0u) << line;
+            EXPECT_GT(done, lastDirect) << line;
+            EXPECT_EQ(total, result.report.lightmap->stats.texels);
+            lastDirect = done;
+        } else if (std::sscanf(line.c_str(), "shoot: %lu shots, local round %lu: %lu / %lu patches shot", &shots, &round, &shot,
                         &patches) == 4) {
             ++rounds;
             EXPECT_GE(round, lastRound) << line;
@@ -207,6 +214,8 @@ TEST(BakeScene, ProgressCountsRoundsAndTexelsToTheirEnds) {
             EXPECT_EQ(total, result.report.lightmap->stats.texels);
         }
     }
+    EXPECT_GT(directLines, 0u);
+    EXPECT_EQ(lastDirect, result.report.lightmap->stats.texels);
     EXPECT_GT(rounds, 0u);
     EXPECT_LE(lastRound, result.report.solve.localRounds);
     EXPECT_GT(texelLines, 0u);
