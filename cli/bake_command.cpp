@@ -121,6 +121,7 @@ int runBake(const BakeOptions& o) {
                                         [&](const BakeProgressEvent& e) {
                                             switch (e.kind) {
                                                 case BakeProgressEvent::Kind::Update: progress.update(e.message); break;
+                                                case BakeProgressEvent::Kind::Step: progress.update(e.message, true); break;
                                                 case BakeProgressEvent::Kind::StageDone: progress.finish(e.message); break;
                                                 case BakeProgressEvent::Kind::Warning:
                                                     std::cerr << "hemibake: warning: " << o.scenePath << ": " << e.message << "\n";

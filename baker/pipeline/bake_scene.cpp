@@ -67,7 +67,7 @@ public:
             threadLimit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
                                                                 std::size_t(s.solve.solver.threads));
         const std::vector<glm::dvec3> positions = probePositions(s.probes, scene_);  // a bad file fails before the solve
-        update("preparing");
+        step("preparing");
         const EmbreeScene rays(scene_);
         result_.report.islands = rays.islands().size();
         stage("setup");
@@ -103,6 +103,7 @@ private:
         if (progress_ && !progress_({kind, message})) throw BakeCancelled();
     }
     void update(const std::string& message) { send(BakeProgressEvent::Kind::Update, message); }
+    void step(const std::string& message) { send(BakeProgressEvent::Kind::Step, message); }
     void done(const std::string& message) { send(BakeProgressEvent::Kind::StageDone, message); }
     void warn(const std::string& message) {
         result_.report.warnings.push_back(message);
@@ -113,6 +114,7 @@ private:
     void solve(const EmbreeScene& rays) {
         const SolveSettings& s = result_.report.settings.solve;
         result_.solved = solveScene(scene_, s, rays, [&](const std::string& stage, const ConvergenceRecord& r) {
+            if (stage.rfind("preparing", 0) == 0) return step(stage);
             std::string line = stage + ": ";
             if (stage == "shoot" && r.localBound >= 0.0) {
                 // Rounds shrink as the phase goes. The worst element's bound is ∞ while a lit patch has never shot
@@ -172,7 +174,7 @@ private:
 
     void unwrap() {
         const LightmapSettings& s = result_.report.settings.lightmap;
-        update("unwrapping");
+        step("unwrapping");
         result_.atlas = unwrapScene(scene_, unwrapSettingsFor(s));
         result_.texels = computeTexels(scene_, result_.atlas, s.texels);
         for (const std::string& w : result_.atlas.warnings) warn(w);
@@ -230,6 +232,7 @@ private:
     void write(const EmbreeScene& rays) {
         const BakeSettings& s = result_.report.settings;
         LightmapReport& lm = *result_.report.lightmap;
+        step("comparing each surface's texels with its elements");
         std::vector<std::vector<std::uint8_t>> insideGeometry;
         for (const AtlasTexels& t : result_.texels)
             insideGeometry.push_back(texelsInsideGeometry(scene_, rays, t, s.lightmap.invalidBackfaceFraction));
@@ -237,6 +240,7 @@ private:
                                           result_.lightmaps, insideGeometry);
         lm.texelsPerUnit = s.lightmap.texelsPerUnit;
         lm.charts = result_.atlas.stats.charts;
+        if (!output_.dir.empty()) step("writing " + std::to_string(result_.lightmaps.size()) + " lightmap(s) and the glb");
         for (std::size_t a = 0; a < result_.lightmaps.size(); ++a) {
             const std::string rel = lightmapRelativePath(s.output.gltf, int(a));
             if (!output_.dir.empty()) {
@@ -262,7 +266,7 @@ private:
     void preview() {
         const OutputSettings& s = result_.report.settings.output;
         if (scene_.cameras.empty() || !s.preview || output_.dir.empty()) return;
-        update("preview render");
+        step("preview render");
         const Camera& camera = scene_.cameras.front();
         const int height = imageHeightFor(camera, s.previewWidthPixels);
         const RgbImage image = renderBakedScene(scene_, result_.atlas, result_.lightmaps, camera, s.previewWidthPixels, height,

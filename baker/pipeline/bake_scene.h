@@ -21,6 +21,8 @@ namespace hemibake {
 struct BakeProgressEvent {
     enum class Kind {
         Update,     // transient: what is running now ("lightmaps: 1200 / 34604 texels")
+        Step,       // transient, a new step begins ("preparing: room scale"): show it even if an update was just shown,
+                    // or a long step could run under the name of the short one before it
         StageDone,  // a stage's one-line summary
         Warning,    // something the user should know (clamped input, a fallback); also in bake.json
     };

@@ -318,6 +318,7 @@ SolveReport solveRadiosity(const Scene& scene, const PatchMesh& mesh, const Solv
     const ElementArrays& el = mesh.elements;
     const Stopwatch clock;
 
+    if (progress) progress("preparing: direct light at " + std::to_string(el.size()) + " elements", ConvergenceRecord{});
     const InjectedLight light = injectDirectLight(scene, mesh, settings, rays, report);
     solution.rayTracedIrradiance = light.rayTraced;
     report.directSeconds = clock.seconds();

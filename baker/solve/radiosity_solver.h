@@ -58,6 +58,8 @@ struct SolveReport {
     ConvergenceHistory history;
 };
 
+// `stage` is "shoot" or "gather" with the record of that moment, or "preparing: …" (what the solve is about to do;
+// the record is empty) before each step that comes before the first shot.
 using SolveProgress = std::function<void(const std::string& stage, const ConvergenceRecord&)>;
 
 // Solves `mesh` (subdivided from `scene`, with `pool` and `rays` built on them) into `solution`. Shooting rows are

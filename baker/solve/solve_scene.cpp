@@ -44,11 +44,16 @@ std::unique_ptr<SolvedScene> solveScene(const Scene& scene, const SolveSettings&
     SolvedScene& solved = *owned;
     const Stopwatch clock;
     double prepareSeconds = 0.0, prepareStart = 0.0;
+    const auto preparing = [&](const std::string& what) {
+        if (progress) progress("preparing: " + what, ConvergenceRecord{});
+    };
     // Subdivides (with `request`'s refinement regions), trims to exposed areas and solves from scratch.
     auto subdivideAndSolve = [&](const RefinementRequest* request) {
         solved.pool.reset();
         solved.elementRays.reset();
+        preparing("patches and elements");
         solved.mesh = subdivideApart(scene, rays, settings.subdivision, request, settings.sides, &solved.sides);
+        preparing("exposed area of " + std::to_string(solved.mesh.elements.size()) + " elements");
         solved.exposedArea = applyExposedAreas(scene, rays, solved.mesh, settings.exposure);
         solved.pool = std::make_unique<HemicubePool>(solved.mesh, settings.solver.hemicubeResolution);
         if (settings.solver.rowSampling == RowSampling::Rays)
@@ -59,6 +64,7 @@ std::unique_ptr<SolvedScene> solveScene(const Scene& scene, const SolveSettings&
         prepareStart = clock.seconds();
     };
     // Regions accumulate (room scale, then each adaptive level): each re-subdivision starts from the unrefined mesh.
+    preparing("room scale");
     RefinementRequest request = findRoomScaleRegions(scene, rays, settings, &solved.roomScale);
     const RefinementRequest steps = findDirectLightSteps(scene, rays, settings, request, &solved.directSteps);
     request.regions.insert(request.regions.end(), steps.regions.begin(), steps.regions.end());

@@ -183,9 +183,10 @@ TEST(BakeScene, ProgressCountsRoundsAndTexelsToTheirEnds) {
     const Scene scene = twoSealedRooms();
     BakeSettings settings = presetSettings("draft", scene.bounds().diagonal());
     settings.lightmap.texelsPerUnit = 8;
-    std::vector<std::string> updates;
+    std::vector<std::string> updates, steps;
     const BakeResult result = bakeScene(scene, settings, BakeOutput{}, [&](const BakeProgressEvent& e) {
         if (e.kind == BakeProgressEvent::Kind::Update) updates.push_back(e.message);
+        if (e.kind == BakeProgressEvent::Kind::Step) steps.push_back(e.message);
         return true;
     });
     unsigned long lastRound = 0, rounds = 0, lastTexels = 0, texelLines = 0, lastDirect = 0, directLines = 0;
@@ -214,6 +215,13 @@ TEST(BakeScene, ProgressCountsRoundsAndTexelsToTheirEnds) {
             EXPECT_EQ(total, result.report.lightmap->stats.texels);
         }
     }
+    // Each step before the first shot is named as it begins, in order, with the elements it works on.
+    const std::string elements = std::to_string(result.report.elements);
+    const std::vector<std::string> expected = {"preparing", "preparing: room scale", "preparing: patches and elements",
+                                               "preparing: exposed area of " + elements + " elements",
+                                               "preparing: direct light at " + elements + " elements", "unwrapping",
+                                               "comparing each surface's texels with its elements"};
+    EXPECT_EQ(steps, expected);
     EXPECT_GT(directLines, 0u);
     EXPECT_EQ(lastDirect, result.report.lightmap->stats.texels);
     EXPECT_GT(rounds, 0u);
