@@ -297,7 +297,10 @@ CommandRunner addBakeCommand(CLI::App& app) {
     cmd->add_option("--gltf", o->gltfMode, "lightmap: PBR materials + MOZ_lightmap; emissive: viewable anywhere (baked "
                                            "into emissive)")->capture_default_str()->check(CLI::IsMember({"lightmap", "emissive"}));
     addProbeOptions(*cmd, o->probes, o->probeOptions);
-    cmd->add_flag("--progress", o->progress, "Report progress on stderr even when it is not a terminal");
+    cmd->add_flag("--progress", o->progress,
+                  "Report progress on stderr even when it is not a terminal (then a line a second): each step as it "
+                  "begins, the shooting's unshot light and then its local rounds, the lightmaps' direct light and "
+                  "texels with the time left, and each stage's summary");
     return [o]() { return runBake(*o); };
 }
 
