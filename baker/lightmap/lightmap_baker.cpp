@@ -319,10 +319,6 @@ std::size_t dilate(LightmapImage& image, int iterations) {
     return filled;
 }
 
-const char* lightmapPhaseName(LightmapPhase phase) {
-    return phase == LightmapPhase::DirectLight ? "direct light" : "texels";
-}
-
 namespace {
 
 // Direct light is computed and reported in slices of this many texels (a second or two on a level).

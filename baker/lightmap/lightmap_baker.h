@@ -59,7 +59,6 @@ struct LightmapStats {
 // What the lightmap stage is doing: direct light at every texel first (shadow rays), then each texel's indirect
 // light (final gathers, or interpolation from the elements).
 enum class LightmapPhase { DirectLight, Texels };
-const char* lightmapPhaseName(LightmapPhase phase);  // "direct light", "texels"
 // Texels done of `total` in `phase`; called on the baking thread, between parallel work, with `done` rising to
 // `total` in each phase. May throw to cancel the bake.
 using LightmapProgress = std::function<void(LightmapPhase phase, std::size_t done, std::size_t total)>;

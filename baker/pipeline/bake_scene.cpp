@@ -121,7 +121,7 @@ private:
                 // (nothing is known of where its light goes), and can be huge for an element lit by a sliver: shown
                 // only once it is a figure a person can compare with the stop rule.
                 line += std::to_string(r.shots) + " shots, local round " + std::to_string(r.localRound) + ": " +
-                        std::to_string(std::min<std::uint64_t>(r.localRoundShots, r.localRoundPatches)) + " / " +
+                        std::to_string(r.localRoundShots) + " / " +
                         std::to_string(r.localRoundPatches) + " patches shot";
                 if (r.localNeverShotPatches > 0)
                     line += " (" + std::to_string(r.localNeverShotPatches) + " never shot before)";

@@ -203,7 +203,7 @@ TEST(BakeScene, ProgressCountsRoundsAndTexelsToTheirEnds) {
                         &patches) == 4) {
             ++rounds;
             EXPECT_GE(round, lastRound) << line;
-            EXPECT_LE(shot, patches) << line;
+            EXPECT_LE(shot, patches) << line;  // a round shoots each of its patches at most once
             lastRound = round;
         } else if (std::sscanf(line.c_str(), "lightmaps: %lu / %lu texels", &done, &total) == 2) {
             ++texelLines;
