@@ -8,6 +8,7 @@
 #include <tbb/parallel_for.h>
 
 #include "baker/direct/direct_light.h"
+#include "baker/lightmap/adaptive_placement.h"
 #include "baker/direct/emissive_area_lights.h"
 #include "baker/lightmap/element_interpolation.h"
 #include "baker/lightmap/ray_gatherer.h"
@@ -22,219 +23,6 @@
 namespace hemibake {
 
 namespace {
-
-
-// One atlas's texels on its grid, for neighbour lookups.
-struct TexelGrid {
-    const AtlasTexels& t;
-    std::vector<std::int32_t> at;  // size² → texel index or -1
-    explicit TexelGrid(const AtlasTexels& texels) : t(texels), at(std::size_t(texels.size) * std::size_t(texels.size), -1) {
-        for (std::size_t i = 0; i < t.count(); ++i) at[std::size_t(t.y[i]) * std::size_t(t.size) + t.x[i]] = std::int32_t(i);
-    }
-    std::int32_t find(int x, int y) const {
-        if (x < 0 || y < 0 || x >= t.size || y >= t.size) return -1;
-        return at[std::size_t(y) * std::size_t(t.size) + std::size_t(x)];
-    }
-};
-
-// Neighbours can stand in for each other only on one continuous piece of surface: same instance, similar
-// normal, and as far apart in the world as in the atlas (a chart boundary breaks that).
-bool continuous(const AtlasTexels& t, std::size_t a, std::size_t b, double maxDistanceM) {
-    return t.instance[a] == t.instance[b] && glm::dot(t.normal[a], t.normal[b]) > 0.9f &&
-           glm::length(t.position[a] - t.position[b]) <= maxDistanceM;
-}
-
-using GatherFn = std::function<void(const std::vector<std::uint32_t>&, std::vector<glm::dvec3>&, std::vector<float>&)>;
-
-// Elias-style adaptive placement over one atlas: per level the coarse lattice, then edge midpoints (between two
-// lattice points on a row or column), then cell centres (which can then use the midpoints around them as well as
-// the diagonal corners). `gather` renders a list of texels.
-class AdaptivePlacer {
-public:
-    AdaptivePlacer(const AtlasTexels& texels, const LightmapSettings& settings, double texelSizeM, const EmbreeScene& rays,
-                   const GatherFn& gather, const std::vector<glm::dvec3>& direct, LightmapStats& stats)
-        : t_(texels), grid_(texels), settings_(settings), texelSizeM_(texelSizeM), rays_(rays), gather_(gather),
-          direct_(direct), stats_(stats), done_(texels.count(), 0) {
-        while (coarse_ * 2 <= std::max(settings.latticeStep, 1)) coarse_ *= 2;
-    }
-
-    // Fills `value` (E/π gathered, without direct light) and `invalid` (inside geometry) for every texel; `advanced`
-    // gets the texels finished (gathered or interpolated) after each phase, so over the run it sums to every texel.
-    void run(std::vector<glm::dvec3>& value, std::vector<std::uint8_t>& invalid, const std::function<void(std::size_t)>& advanced) {
-        const std::size_t n = t_.count();
-        value.assign(n, glm::dvec3(0.0));
-        invalid.assign(n, 0);
-        value_ = &value;
-        invalid_ = &invalid;
-        for (int step = coarse_; step >= 1; step /= 2)
-            for (const Phase phase : {Phase::Lattice, Phase::EdgeMidpoints, Phase::CellCentres}) {
-                if (phase == Phase::Lattice && step != coarse_) continue;
-                for (std::size_t i = 0; i < n; ++i) visit(phase, step, i);
-                render(phase, step);
-                advanced(finished_);
-                finished_ = 0;
-            }
-    }
-
-private:
-    enum class Phase { Lattice, EdgeMidpoints, CellCentres };
-    // What interpolation would give at a texel, the curvature it drops there, and the spread of the neighbours it
-    // used (a step between two neighbours has no curvature at all, only spread).
-    struct Estimate {
-        bool ok = false;
-        glm::dvec3 value{0.0};
-        double curvature = 0.0, spread = 0.0, scale = 0.0;
-    };
-
-    // Interpolates texel i when its neighbours at this step agree, else queues it for a hemicube.
-    void visit(Phase phase, int step, std::size_t i) {
-        const int x = t_.x[i], y = t_.y[i];
-        if (done_[i] || x % step || y % step) return;
-        if (phase == Phase::Lattice) {
-            batch_.push_back(std::uint32_t(i));
-            ++stats_.renderedLattice;
-            return;
-        }
-        const bool oddX = (x / step) % 2 == 1, oddY = (y / step) % 2 == 1;
-        if ((oddX != oddY) != (phase == Phase::EdgeMidpoints)) return;
-        missing_ = Missing::None;
-        Estimate e = phase == Phase::EdgeMidpoints ? edgeMidpoint(i, step, oddX, oddY) : cellCentre(i, step);
-        // The tolerance is relative to what the texel will hold: the gathered light plus the direct light added
-        // by rays afterwards (a faint bounce beside a bright direct term needs no hemicube).
-        if (!direct_.empty()) e.scale += channelSum(direct_[i]);
-        // Interpolating across a step of contrast Δ errs by up to Δ/2 at the texel: a spread of up to twice the
-        // tolerance keeps that error within it.
-        const double allowed = settings_.interpolationTolerance * (e.scale + floor_);
-        if (e.ok && e.curvature <= allowed && e.spread <= 2.0 * allowed) {
-            (*value_)[i] = glm::max(e.value, glm::dvec3(0.0));
-            done_[i] = 1;
-            ++finished_;
-            ++stats_.interpolated;
-        } else {
-            batch_.push_back(std::uint32_t(i));
-            ++(e.ok ? stats_.renderedDisagreeing : stats_.renderedUnsupported);
-            if (!e.ok) {
-                LightmapStats::UnsupportedBy& by = stats_.renderedUnsupportedBy;
-                ++(missing_ == Missing::Inside ? by.insideGeometry : missing_ == Missing::OutOfSight ? by.outOfSight : by.chartEdge);
-            }
-        }
-    }
-
-    // The value of a finished, valid neighbour on the same piece of surface and in sight of the texel (a wall
-    // standing on the surface between them hides one from the other), if there is one.
-    // The first missing one is recorded in missing_ (why the texel had to be gathered).
-    bool neighbour(std::size_t i, int dx, int dy, int step, glm::dvec3& v) const {
-        const double reach = 1.5 * std::sqrt(2.0) * step * texelSizeM_;  // world distance of a lattice neighbour
-        const std::int32_t j = grid_.find(t_.x[i] + dx, t_.y[i] + dy);
-        const auto missing = [this](Missing why) {
-            if (missing_ == Missing::None) missing_ = why;
-            return false;
-        };
-        if (j < 0 || !done_[std::size_t(j)] || !continuous(t_, i, std::size_t(j), 3.0 * reach)) return missing(Missing::ChartEdge);
-        if ((*invalid_)[std::size_t(j)]) return missing(Missing::Inside);
-        if (!inSight(i, std::size_t(j))) return missing(Missing::OutOfSight);
-        v = (*value_)[std::size_t(j)];
-        return true;
-    }
-
-    bool inSight(std::size_t i, std::size_t j) const {
-        const glm::dvec3 from = rays_.offsetFromSurface(t_.position[i], glm::dvec3(t_.normal[i]));
-        const glm::dvec3 to = rays_.offsetFromSurface(t_.position[j], glm::dvec3(t_.normal[j]));
-        return !rays_.occluded(from, to, EmbreeScene::RayEnds::Lifted);
-    }
-
-    static double spreadOf(std::initializer_list<glm::dvec3> values) {
-        double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-        for (const glm::dvec3& v : values) {
-            lo = std::min(lo, channelSum(v));
-            hi = std::max(hi, channelSum(v));
-        }
-        return hi - lo;
-    }
-
-    // Interpolate only where the light is locally smooth, and then to second order: a linear average of a curved
-    // profile is biased (a wall lit from above is concave across its middle, and every interpolated texel there
-    // would come out a little dark). Edge midpoints use the cubic through the four lattice points on their line.
-    Estimate edgeMidpoint(std::size_t i, int step, bool oddX, bool oddY) const {
-        Estimate e;
-        const int ux = oddX ? step : 0, uy = oddY ? step : 0;
-        glm::dvec3 b, c, a, d;
-        if (!neighbour(i, -ux, -uy, step, b) || !neighbour(i, ux, uy, step, c)) return e;
-        e.ok = true;
-        e.scale = std::max(channelSum(b), channelSum(c));
-        e.spread = spreadOf({b, c});
-        if (neighbour(i, -3 * ux, -3 * uy, step, a) && neighbour(i, 3 * ux, 3 * uy, step, d)) {
-            e.value = (9.0 * (b + c) - a - d) / 16.0;
-            e.curvature = std::abs(channelSum(-a + b + c - d)) / 16.0;  // |cubic − linear| at the midpoint
-        } else {
-            e.value = 0.5 * (b + c);
-            e.curvature = std::abs(channelSum(b - c));  // at a chart edge: plain agreement
-        }
-        return e;
-    }
-
-    // Cell centres: 2·(axis mean) − (diagonal mean), exact for any quadratic; the twist term and the axis/diagonal
-    // disagreement measure what it drops.
-    Estimate cellCentre(std::size_t i, int step) const {
-        Estimate e;
-        glm::dvec3 c00, c10, c01, c11, l, r, u, dn;
-        if (!neighbour(i, -step, -step, step, c00) || !neighbour(i, step, -step, step, c10) ||
-            !neighbour(i, -step, step, step, c01) || !neighbour(i, step, step, step, c11))
-            return e;
-        e.ok = true;
-        const glm::dvec3 diagonal = 0.25 * (c00 + c10 + c01 + c11);
-        e.scale = std::max({channelSum(c00), channelSum(c10), channelSum(c01), channelSum(c11)});
-        e.spread = spreadOf({c00, c10, c01, c11});
-        e.curvature = std::abs(channelSum(c00 + c11 - c10 - c01)) / 2.0;  // the twist term
-        e.value = diagonal;
-        if (neighbour(i, -step, 0, step, l) && neighbour(i, step, 0, step, r) && neighbour(i, 0, -step, step, u) &&
-            neighbour(i, 0, step, step, dn)) {
-            const glm::dvec3 axis = 0.25 * (l + r + u + dn);
-            e.value = 2.0 * axis - diagonal;
-            e.curvature = std::max(e.curvature, std::abs(channelSum(axis - diagonal)));
-            e.spread = std::max(e.spread, spreadOf({l, r, u, dn}));
-        }
-        return e;
-    }
-
-    // Renders the queued texels; the coarse lattice's mean sets the absolute agreement floor.
-    void render(Phase phase, int step) {
-        gather_(batch_, gathered_, backface_);
-        for (std::size_t k = 0; k < batch_.size(); ++k) {
-            (*value_)[batch_[k]] = gathered_[k];
-            (*invalid_)[batch_[k]] = backface_[k] > settings_.invalidBackfaceFraction;
-            done_[batch_[k]] = 1;
-        }
-        stats_.rendered += batch_.size();
-        finished_ += batch_.size();
-        if (phase == Phase::Lattice && step == coarse_ && !batch_.empty()) {
-            double mean = 0.0;
-            for (const glm::dvec3& g : gathered_) mean += channelSum(g);
-            floor_ = 0.01 * mean / double(batch_.size());
-        }
-        batch_.clear();
-    }
-
-    const AtlasTexels& t_;
-    const TexelGrid grid_;
-    const LightmapSettings& settings_;
-    const double texelSizeM_;
-    const EmbreeScene& rays_;
-    const GatherFn& gather_;
-    const std::vector<glm::dvec3>& direct_;
-    LightmapStats& stats_;
-    std::vector<std::uint8_t> done_;
-    std::vector<glm::dvec3>* value_ = nullptr;
-    std::vector<std::uint8_t>* invalid_ = nullptr;
-    int coarse_ = 1;
-    double floor_ = 0.0;  // absolute agreement floor, from the coarse level's mean
-    std::vector<std::uint32_t> batch_;
-    std::vector<glm::dvec3> gathered_;
-    std::vector<float> backface_;
-    enum class Missing { None, ChartEdge, Inside, OutOfSight };
-    mutable Missing missing_ = Missing::None;  // the first neighbour the texel being visited lacked
-    std::size_t finished_ = 0;  // texels finished (gathered or interpolated) since progress was last reported
-};
 
 // Texels inside geometry saw mostly back faces: each takes the mean of its valid continuous neighbours (a few rings).
 // Under a wall's foot those neighbours lie on two sides that cannot see each other, and whatever value the texel gets
@@ -258,7 +46,7 @@ void refillInvalid(const AtlasTexels& texels, double texelSizeM, const EmbreeSce
             for (int dy = -1; dy <= 1; ++dy)
                 for (int dx = -1; dx <= 1; ++dx) {
                     const std::int32_t j = grid.find(texels.x[i] + dx, texels.y[i] + dy);
-                    if (j < 0 || invalid[std::size_t(j)] || !continuous(texels, i, std::size_t(j), 3.0 * texelSizeM)) continue;
+                    if (j < 0 || invalid[std::size_t(j)] || !continuousSurface(texels, i, std::size_t(j), 3.0 * texelSizeM)) continue;
                     const auto jj = std::size_t(j);
                     auto side = std::find_if(sides.begin(), sides.end(), [&](const Side& s) {
                         return !rays.occluded(texels.position[s.first], texels.position[jj]);
@@ -427,13 +215,21 @@ public:
             for (std::size_t k = 0; k < ids.size(); ++k) points[k] = {t.position[ids[k]], t.normal[ids[k]]};
             gatherAt(points, ids, a + 1, out, &backface, stats);
         };
+        const ProbeFn probe = [&](const std::vector<std::uint32_t>& ids, std::vector<glm::dvec3>& out,
+                                  std::vector<double>& standardError) {
+            std::vector<GatherPoint> points(ids.size());
+            for (std::size_t k = 0; k < ids.size(); ++k) points[k] = {t.position[ids[k]], t.normal[ids[k]]};
+            stats.gatherRaysTraced += rayGatherer_->probe(points, solve_.lighting.skyRadiance, a + 1, out, standardError, ids).traced;
+        };
         // Direct light at every texel: its shadows are as sharp as the texel grid allows.
         static const std::vector<glm::dvec3> kNone;
         const std::vector<glm::dvec3>& directValue = direct_ ? directValue_[a] : kNone;
         std::vector<glm::dvec3> value;
         std::vector<std::uint8_t> invalid;
         Stopwatch clock;
-        AdaptivePlacer(t, settings_, texelSizeM, rays_, gather, directValue, stats).run(value, invalid, advanced);
+        static const ProbeFn kNoProbe;
+        const bool probes = rayGatherer_ && rayGatherer_->canProbe();
+        placeGathers(t, settings_, texelSizeM, rays_, gather, probes ? probe : kNoProbe, directValue, stats, value, invalid, advanced);
         stats.seconds.gather += clock.lap();
         stats.invalid += std::size_t(std::count(invalid.begin(), invalid.end(), 1));
         inside = invalid;

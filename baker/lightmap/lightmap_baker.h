@@ -23,16 +23,19 @@ struct SolvedScene;
 
 struct LightmapStats {
     std::size_t texels = 0;
-    std::size_t rendered = 0;      // texels gathered (rays or a hemicube): the three below
+    std::size_t rendered = 0;      // texels gathered (rays or a hemicube): the four below
     std::size_t renderedLattice = 0;      // on the coarse lattice (1 in latticeStep² texels)
     std::size_t renderedUnsupported = 0;  // a neighbour interpolation needs is off the chart, out of sight or inside
     std::size_t renderedDisagreeing = 0;  // the neighbours were there but disagreed beyond the tolerance
+    std::size_t renderedChartEnds = 0;    // with the lattice: a chart's ends on lattice rows and columns, its corners
     // The unsupported ones by the first neighbour found missing: off the chart (its edge, or another piece of surface
     // beside it in the atlas), inside geometry (a wall's foot), or out of sight (something stands between them).
     struct UnsupportedBy {
         std::size_t chartEdge = 0, insideGeometry = 0, outOfSight = 0;
     } renderedUnsupportedBy;
     std::size_t interpolated = 0;  // texels interpolated from agreeing lattice neighbours
+    std::size_t interpolatedBesideChartEdges = 0;  // of those, along a row or column to a chart's end
+    std::size_t probedBesideChartEdges = 0;  // texels whose interpolation beside a chart's edge their probe checked
     std::size_t invalid = 0;       // texels inside geometry (mostly back faces seen), refilled from neighbours
     std::size_t dilated = 0;       // padding texels filled (by dilate(), before seam stitching)
     TexelLightStats texelDirect;  // how the final gathers see direct light per texel (texel_light.h)

@@ -51,16 +51,32 @@ glm::dvec3 RayGatherer::texelLightAt(std::uint32_t e, double b1, double b2) cons
 RayGatherer::RayCounts RayGatherer::gather(const std::vector<GatherPoint>& points, glm::vec3 skyRadiance, std::uint64_t sweep,
                                   std::vector<glm::dvec3>& irradianceOverPi, std::vector<float>* backfaceFraction,
                                   std::span<const std::uint32_t> keys) const {
+    return trace(points, skyRadiance, sweep, keys, false, irradianceOverPi, backfaceFraction, nullptr);
+}
+
+RayGatherer::RayCounts RayGatherer::probe(const std::vector<GatherPoint>& points, glm::vec3 skyRadiance, std::uint64_t sweep,
+                                          std::vector<glm::dvec3>& irradianceOverPi, std::vector<double>& standardError,
+                                          std::span<const std::uint32_t> keys) const {
+    if (!canProbe())
+        throw std::logic_error("RayGatherer::probe: " + std::to_string(strata_) + " strata a side, fewer than " +
+                               std::to_string(2 * kProbeStrataPerSide));
+    return trace(points, skyRadiance, sweep, keys, true, irradianceOverPi, nullptr, &standardError);
+}
+
+RayGatherer::RayCounts RayGatherer::trace(const std::vector<GatherPoint>& points, glm::vec3 skyRadiance, std::uint64_t sweep,
+                                          std::span<const std::uint32_t> keys, bool probeOnly,
+                                          std::vector<glm::dvec3>& irradianceOverPi, std::vector<float>* backfaceFraction,
+                                          std::vector<double>* standardError) const {
     if (!keys.empty() && keys.size() != points.size())
         throw std::invalid_argument("RayGatherer::gather: " + std::to_string(keys.size()) + " keys for " +
                                     std::to_string(points.size()) + " points");
     irradianceOverPi.assign(points.size(), glm::dvec3(0.0));
     if (backfaceFraction) backfaceFraction->assign(points.size(), 0.0f);
+    if (standardError) standardError->assign(points.size(), 0.0);
     const std::uint64_t base = splitMix64(seed_ ^ splitMix64(sweep));
     const bool texelLightOn = texelLight_ && texelLight_->atlasSize > 0;
     // The probe: every stride-th stratum each way, traced first when back faces are asked for.
-    const bool probed = backfaceFraction && strata_ >= 2 * kProbeStrataPerSide &&
-                        insideBackFraction_ <= kProbeMaxInsideBackFraction;
+    const bool probed = probeOnly || (backfaceFraction && canProbe() && insideBackFraction_ <= kProbeMaxInsideBackFraction);
     const int stride = probed ? strata_ / kProbeStrataPerSide : 0;
     std::vector<std::uint32_t> probe, rest;
     for (int sy = 0; sy < strata_ && stride; ++sy)
@@ -109,18 +125,29 @@ RayGatherer::RayCounts RayGatherer::gather(const std::vector<GatherPoint>& point
             local.hits.resize(local.dirs.size());
             // What the rays saw, summed in stratum order.
             glm::dvec3 sum(0.0);
+            double sumSquares = 0.0;  // of each ray's channel sum (the probe's standard error)
             std::uint64_t backs = 0, skies = 0, seen = 0;
             const auto add = [&](const ElementHit& hit) {
                 ++seen;
+                glm::dvec3 ray(0.0);  // added to sum term by term, in the order every gather has summed them
                 if (hit.kind == ElementHit::Kind::Sky) {
-                    sum += glm::dvec3(skyRadiance);
+                    ray = glm::dvec3(skyRadiance);
+                    sum += ray;
                     ++skies;
                 } else if (hit.kind == ElementHit::Kind::Back) {
                     ++backs;
                 } else {
-                    if (hit.element < radiance_.size()) sum += glm::dvec3(radiance_[hit.element]);
-                    if (texelLightOn) sum += texelLightAt(hit.element, hit.b1, hit.b2);
+                    if (hit.element < radiance_.size()) {
+                        ray = glm::dvec3(radiance_[hit.element]);
+                        sum += ray;
+                    }
+                    if (texelLightOn) {
+                        const glm::dvec3 light = texelLightAt(hit.element, hit.b1, hit.b2);
+                        sum += light;
+                        ray += light;
+                    }
                 }
+                sumSquares += (ray.x + ray.y + ray.z) * (ray.x + ray.y + ray.z);
             };
             bool inside = false;
             if (stride) {
@@ -129,18 +156,23 @@ RayGatherer::RayCounts RayGatherer::gather(const std::vector<GatherPoint>& point
                     return local.hits[stratum].kind == ElementHit::Kind::Back;
                 });
                 inside = double(probeBacks) > kInsideProbeBackFraction * double(probe.size());
-                if (!inside) traceSubset(local, origin, rest);
+                if (!inside && !probeOnly) traceSubset(local, origin, rest);
             } else {
                 scene_->trace(origin, local.dirs, local.hits);
             }
-            if (inside) {
+            if (inside || probeOnly) {
                 for (const std::uint32_t stratum : probe) add(local.hits[stratum]);
             } else {
                 for (const ElementHit& hit : local.hits) add(hit);
             }
             local.counts.traced += seen;
-            local.counts.stoppedInside += inside;
+            local.counts.stoppedInside += inside && !probeOnly;
             irradianceOverPi[i] = sum / double(seen);
+            if (standardError && seen > 1) {
+                const double mean = (sum.x + sum.y + sum.z) / double(seen);
+                const double variance = std::max(0.0, (sumSquares - double(seen) * mean * mean) / double(seen - 1));
+                (*standardError)[i] = std::sqrt(variance / double(seen));
+            }
             if (backfaceFraction) (*backfaceFraction)[i] = float(double(backs) / double(seen));
             local.counts.escaped += skies;
         }

@@ -71,6 +71,15 @@ public:
     RayCounts gather(const std::vector<GatherPoint>& points, glm::vec3 skyRadiance, std::uint64_t sweep,
                      std::vector<glm::dvec3>& irradianceOverPi, std::vector<float>* backfaceFraction = nullptr,
                      std::span<const std::uint32_t> keys = {}) const;
+    // The probe alone at every point, in parallel: the 8 × 8 sub-lattice of strata a gather traces first (the same
+    // rays), its E/π and the standard error of that E/π's three channels summed, from the rays' spread (which overstates
+    // it for stratified rays). A point inside geometry gets the probe's value like any other. Returns what was traced.
+    // Throws std::logic_error unless canProbe(), std::invalid_argument as gather does.
+    RayCounts probe(const std::vector<GatherPoint>& points, glm::vec3 skyRadiance, std::uint64_t sweep,
+                    std::vector<glm::dvec3>& irradianceOverPi, std::vector<double>& standardError,
+                    std::span<const std::uint32_t> keys = {}) const;
+    // Whether points have a probe: at least 2·kProbeStrataPerSide strata a side (256 rays).
+    bool canProbe() const { return strata_ >= 2 * kProbeStrataPerSide; }
     // A probe meeting back faces on more than this share of its rays stops its point. The lightmap calls a texel
     // inside geometry above a tenth (LightmapSettings::invalidBackfaceFraction); half a probe's 64 stratified rays is
     // far beyond any texel on the surface (a texel under an overlapping wall typically meets 90 % or more).
@@ -84,6 +93,10 @@ public:
     int raysPerPoint() const { return strata_ * strata_; }
 
 private:
+    // gather and probe: every ray of each point, or its probe only (standardError then filled).
+    RayCounts trace(const std::vector<GatherPoint>& points, glm::vec3 skyRadiance, std::uint64_t sweep,
+                    std::span<const std::uint32_t> keys, bool probeOnly, std::vector<glm::dvec3>& irradianceOverPi,
+                    std::vector<float>* backfaceFraction, std::vector<double>* standardError) const;
     glm::dvec3 texelLightAt(std::uint32_t element, double b1, double b2) const;
 
     int strata_ = 1;

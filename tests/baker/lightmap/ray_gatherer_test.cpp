@@ -316,3 +316,37 @@ TEST(RayGatherer, PointsInsideGeometryStopAfterTheirProbe) {
         EXPECT_NEAR(back[0], 0.8, 5.0 * diskSigmaBound(0.8));
     }
 }
+
+// The lightmap checks an interpolation beside a chart's edge against the texel's probe (adaptive_placement.h): the same
+// 64 rays its gather traces first, with the standard error of their mean.
+TEST(RayGatherer, AProbeIsItsGathersFirstRaysWithTheirStandardError) {
+    const PatchMesh mesh = diskMesh(1.0, 1.0);  // radius 1 at z = 1, facing the origin
+    RayGatherer g(mesh, kRays, 11);
+    g.setElementRadiance(std::vector<glm::vec3>(mesh.elements.size(), glm::vec3(2.0f)));
+    g.setInsideBackFraction(0.1);
+    const glm::vec3 sky(0.5f);
+    // Inside (the disk's back on 0.8 of its rays), half under the disk (F = 1/2), and facing away from it (sky only).
+    const std::vector<GatherPoint> points = {{{0, 0, 1.5}, {0, 0, -1}}, {{0, 0, 0}, {0, 0, 1}}, {{0, 0, 0}, {0, 0, -1}}};
+    std::vector<glm::dvec3> gathered, probed;
+    std::vector<float> back;
+    std::vector<double> standardError;
+    g.gather(points, sky, 1, gathered, &back);
+    const RayGatherer::RayCounts counts = g.probe(points, sky, 1, probed, standardError);
+    constexpr int kProbeRays = RayGatherer::kProbeStrataPerSide * RayGatherer::kProbeStrataPerSide;
+    EXPECT_EQ(counts.traced, std::uint64_t(3 * kProbeRays));
+    EXPECT_EQ(counts.stoppedInside, 0u);  // a probe is not a gather stopped early
+    // The point inside stopped after its probe: the same rays summed in the same order.
+    EXPECT_EQ(probed[0], gathered[0]);
+    // Under the disk: L = 2 on half the hemisphere's cosine-weighted measure, the sky on the rest: E/π = 1.25. Each ray
+    // brings a channel sum of 6 or 1.5, on about half the rays each: a spread of 2.27 over 64 rays, 0.28 on the mean.
+    EXPECT_NEAR(standardError[1], 0.2835, 0.01);
+    EXPECT_NEAR(probed[1].x, 1.25, 4.0 * standardError[1] / 3.0);
+    // Every ray meets the sky: the exact sky, and no spread at all.
+    EXPECT_EQ(probed[2], glm::dvec3(sky));
+    EXPECT_EQ(standardError[2], 0.0);
+    // Fewer than 16 × 16 strata have no probe.
+    const RayGatherer coarse(mesh, 64, 11);
+    EXPECT_FALSE(coarse.canProbe());
+    EXPECT_TRUE(g.canProbe());
+    EXPECT_THROW(coarse.probe(points, sky, 1, probed, standardError), std::logic_error);
+}
