@@ -8,6 +8,7 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
+#include "baker/util/colour.h"
 #include "mesh/frame_math.h"
 #include "mesh/z_curve.h"
 
@@ -147,7 +148,7 @@ RayGatherer::RayCounts RayGatherer::trace(const std::vector<GatherPoint>& points
                         ray += light;
                     }
                 }
-                sumSquares += (ray.x + ray.y + ray.z) * (ray.x + ray.y + ray.z);
+                sumSquares += channelSum(ray) * channelSum(ray);
             };
             bool inside = false;
             if (stride) {
@@ -169,7 +170,7 @@ RayGatherer::RayCounts RayGatherer::trace(const std::vector<GatherPoint>& points
             local.counts.stoppedInside += inside && !probeOnly;
             irradianceOverPi[i] = sum / double(seen);
             if (standardError && seen > 1) {
-                const double mean = (sum.x + sum.y + sum.z) / double(seen);
+                const double mean = channelSum(sum) / double(seen);
                 const double variance = std::max(0.0, (sumSquares - double(seen) * mean * mean) / double(seen - 1));
                 (*standardError)[i] = std::sqrt(variance / double(seen));
             }
